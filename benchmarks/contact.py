@@ -1,0 +1,112 @@
+"""Time per wheelset contact evaluation, in the form the dynamics calls it.
+
+One evaluation = both wheels of a wheelset, every contact point (tread and flange), the Hertz
+normal force with damping and Polach's creep forces with spin, from the wheelset's position and
+velocity. Printed:
+
+- the compiled kernel called from compiled code (as inside the dynamics' force function, which
+  evaluates all wheelsets in one compiled call);
+- the same through the Python wrapper ``WheelsetContactModel.evaluate_raw`` (one call from
+  Python per wheelset);
+- the slow general four-parameter search, for comparison (it checks the kernel in the tests).
+
+Run: ``python benchmarks/contact.py`` (timings vary by tens of percent between runs).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numba
+import numpy as np
+
+from railexu.contact import kernel as K
+from railexu.contact.evaluation import ContactParameters, WheelsetContactModel
+from railexu.contact.placement import symmetric_wheelset
+from railexu.contact.quasistatic import press_wheelset
+from railexu.contact.search import general_contact_search
+
+
+@numba.njit(cache=True)
+def _loop(n, model_arrays, params, states, rails, points, force):
+    wl, il, rl, ril, wr, ir, rr, rir, ht, kt = model_arrays
+    acc = 0.0
+    m = states.shape[0]
+    for i in range(n):
+        K.wheelset_contact(wl, il, rl, ril, wr, ir, rr, rir, ht, kt, params, states[i % m],
+                           rails, points, force)  # fmt: skip
+        acc += force[1]
+    return acc
+
+
+def _states(model: WheelsetContactModel, speed: float, r0: float) -> np.ndarray:
+    """Realistic poses: tread contact near the centre and flange contact at 7 mm, with yaw and
+    small lateral/vertical velocities."""
+    rng = np.random.default_rng(1)
+    out = []
+    for y in (0.0, 0.002, 0.004, -0.003, 0.0068, -0.0068):
+        yaw = 0.002 * np.sign(y)
+        st = press_wheelset(model, y, yaw, 50000.0)
+        for _ in range(20):
+            out.append(
+                [
+                    0.0,
+                    y + rng.normal(0, 1e-5),
+                    st.vertical_m + rng.normal(0, 2e-6),
+                    st.roll_rad,
+                    yaw,
+                    speed,
+                    rng.normal(0, 0.01),
+                    rng.normal(0, 0.001),
+                    0.0,
+                    speed / r0,
+                    rng.normal(0, 0.01),
+                ]
+            )
+    return np.array(out)
+
+
+def main() -> None:
+    r0, speed = 0.625, 10.0
+    geometry = symmetric_wheelset("S1002", "UIC60", nominal_radius_m=r0, inclination="1:40")
+    model = WheelsetContactModel(geometry, ContactParameters(creep_model="polach"), speed)
+    states = _states(model, speed, r0)
+    arrays = (
+        model.wtab_l, model.winfo_l, model.rtab_l, model.rinfo_l,
+        model.wtab_r, model.winfo_r, model.rtab_r, model.rinfo_r, model.htab, model.ktab,
+    )  # fmt: skip
+    points = np.zeros((2, K.MAX_POINTS, K.N_POINT_FIELDS))
+    force = np.zeros(6)
+    rails = np.zeros(8)
+    _loop(10, arrays, model.params, states, rails, points, force)  # compile / load cache
+
+    n = 200_000
+    best = np.inf
+    for _ in range(5):
+        t0 = time.perf_counter()
+        _loop(n, arrays, model.params, states, rails, points, force)
+        best = min(best, (time.perf_counter() - t0) / n)
+    n_pts = np.mean([np.count_nonzero(points[:, :, K.PF_N] > 0)])
+    print("S1002 / UIC60 1:40, r0 = 0.625 m, V = 10 m/s, Polach with spin, 50 kN per wheel")
+    print(f"  compiled kernel, from compiled code: {best * 1e6:6.2f} us per wheelset evaluation")
+    print(f"    (both wheels, ~{n_pts:.0f} loaded points in the last state; limit 10 us)")
+
+    n = 20_000
+    t0 = time.perf_counter()
+    for i in range(n):
+        model.evaluate_raw(states[i % len(states)], rails)
+    dt = (time.perf_counter() - t0) / n
+    print(f"  through the Python wrapper:          {dt * 1e6:6.2f} us per call")
+
+    pair = geometry.left
+    st = states[0]
+    t0 = time.perf_counter()
+    reps = 5
+    for _ in range(reps):
+        general_contact_search(pair, st[1], st[2], st[3], st[4])
+    dt = (time.perf_counter() - t0) / reps
+    print(f"  general 4-parameter search (1 wheel): {dt * 1e3:6.1f} ms (reference only)")
+
+
+if __name__ == "__main__":
+    main()

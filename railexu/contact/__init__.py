@@ -1,0 +1,1 @@
+"""Wheel-rail contact: geometry, normal (Hertz) and tangential (Kalker, Polach, FASTSIM) forces."""

@@ -1,0 +1,537 @@
+"""The compiled per-wheelset contact evaluation (numba).
+
+This is the function the dynamics calls for every wheelset in every Newton iteration, so it is
+written with scalars only, allocates nothing and reads precomputed tables.
+
+Method (the seed's steps a-d, specialised to a rail that is a cylinder along the track):
+
+a) *Contact locus.* A wheel is a surface of revolution. For each circle of the wheel (lateral
+   profile coordinate ``s``) the only point where the wheel normal can be parallel to a rail
+   normal lies where the wheel normal has no component along the track, because the normal of a
+   straight rail lies in the track's y-z plane. With the wheelset orientation
+   ``R = Rx(phi) Rz(psi)`` this point sits at the angle ``theta`` from the bottom of the circle with
+   ``sin(theta) = -r'(s) tan(psi)``: it moves ahead of or behind the axle with yaw (flange
+   lead). This is the exact 3-D solution of the parametric-surface conditions (wheel normal
+   parallel to the rail normal, distance along the rail normal) for a straight rail, reduced to
+   the single wheel parameter ``s``; :mod:`railexu.contact.search` solves the same conditions as a
+   general nonlinear system in the four surface parameters and the tests compare the two.
+b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` is scanned on a coarse
+   grid (``scan_step``); every local minimum is refined to machine precision by a bracketed
+   Illinois iteration on ``g'(s) = 0`` (equal slopes = common normal). Each local minimum with
+   ``g < 0`` is a contact point: one on the tread, or two when tread and flange both touch (the
+   seed's Fig. 8). The normal penetration is ``delta = -g cos(gamma)``.
+c) *Normal force.* Hertz's ellipse and stiffness from the principal curvatures of wheel and rail
+   at the point (:mod:`railexu.contact.hertz`), and the damped force of the seed's eq. (2)
+   ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
+   negative.
+d) *Tangential forces.* Creepages and spin from the wheel's velocity at the point; Kalker's
+   coefficients for the ellipse's a/b; the creep law chosen by name (Polach by default).
+
+Frames and signs follow ``docs/conventions.md``. The right wheel is evaluated as the mirror image
+of a left wheel (``y -> -y``; roll, yaw, lateral velocity, roll and yaw rates change sign) so that
+the same code serves both sides; the results are mirrored back.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .creep import creep_forces_nb
+from .hertz import hertz_coefficients_nb
+from .kalker import kalker_coefficients_nb
+
+#: Most contact points searched per wheel.
+MAX_POINTS = 3
+
+# Fields of the per-point output array ``points[side, k, field]`` (real track frame unless noted).
+PF_ACTIVE = 0  # 1.0 if the candidate exists (local minimum of the gap), else 0.0
+PF_S = 1  # contact position on the wheel profile, from the tape circle, outwards positive [m]
+PF_YRAIL = 2  # lateral position on the placed rail, left-type track axes [m]
+PF_X = 3  # contact point, track frame [m]
+PF_Y = 4
+PF_Z = 5
+PF_RADIUS = 6  # rolling radius of the wheel at the point [m]
+PF_ANGLE = 7  # contact angle, positive towards the flange (left-type rail slope angle) [rad]
+PF_GAP = 8  # vertical gap (negative = overlap) [m]
+PF_DELTA = 9  # normal penetration [m]
+PF_N = 10  # normal force [N]
+PF_A = 11  # semi-axis in rolling direction [m]
+PF_B = 12  # lateral semi-axis [m]
+PF_XI = 13  # longitudinal creepage
+PF_ETA = 14  # lateral creepage (real contact frame: t_y = n x t_x)
+PF_SPIN = 15  # spin creepage [1/m] (real contact frame)
+PF_FX = 16  # tangential force on the wheel along t_x [N]
+PF_FY = 17  # tangential force on the wheel along t_y [N]
+PF_FTX = 18  # total contact force on the wheel, track frame [N]
+PF_FTY = 19
+PF_FTZ = 20
+PF_KWX = 21  # wheel principal curvature along the rolling direction [1/m]
+PF_KWY = 22  # wheel lateral curvature (convex positive) [1/m]
+PF_KRY = 23  # rail lateral curvature (convex positive) [1/m]
+PF_DELTA_DOT = 24  # penetration rate [m/s]
+PF_NX = 25  # contact normal, track frame
+PF_NY = 26
+PF_NZ = 27
+N_POINT_FIELDS = 28
+
+# Entries of the parameter vector ``params``.
+P_ESTAR = 0  # effective modulus E* [Pa]
+P_SHEAR = 1  # combined shear modulus G [Pa]
+P_MU = 2  # friction coefficient (mu0 for Polach 2005)
+P_KA = 3  # Polach 2005 reduction factors
+P_KS = 4
+P_FRIC_A = 5  # Polach 2005 friction ratio mu_inf / mu0
+P_FRIC_B = 6  # Polach 2005 exponential friction decrease [s/m]
+P_SPEED = 7  # rolling (forward) speed V [m/s]
+P_DAMP_MODEL = 8  # 0: N = K d^1.5 + D d_dot ; 1: Hunt-Crossley N = K d^1.5 (1 + chi d_dot)
+P_DAMP = 9  # D [N s/m] or chi [s/m]
+P_CREEP = 10  # creep model code (railexu.contact.creep)
+P_SCAN = 11  # scan step along the wheel profile [m]
+P_TANGENTIAL = 12  # 1.0: compute creep forces, 0.0: normal forces only
+N_PARAMS = 13
+
+# Columns of ``wheel_info`` / ``rail_info``.
+WI_S0, WI_STEP, WI_N, WI_R0, WI_TAPE = 0, 1, 2, 3, 4
+RI_Y0, RI_STEP, RI_N = 0, 1, 2
+
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+
+
+@numba.njit(inline="always", **_JIT)
+def _hermite(tab, y0, step, n, y):
+    """Cubic Hermite interpolation of ``tab[:, 0]`` with slopes ``tab[:, 1]`` on a uniform grid.
+
+    Returns ``(value, slope, second_derivative, ok)``; the second derivative is interpolated
+    linearly from ``tab[:, 2]``. ``ok`` is False outside the table.
+    """
+    u = (y - y0) / step
+    if u < 0.0 or u > n - 1.0:
+        return 0.0, 0.0, 0.0, False
+    i = int(u)
+    if i >= n - 1:
+        i = n - 2
+    t = u - i
+    z0 = tab[i, 0]
+    z1 = tab[i + 1, 0]
+    d0 = tab[i, 1] * step
+    d1 = tab[i + 1, 1] * step
+    t2 = t * t
+    t3 = t2 * t
+    val = (2.0 * t3 - 3.0 * t2 + 1.0) * z0 + (t3 - 2.0 * t2 + t) * d0
+    val += (-2.0 * t3 + 3.0 * t2) * z1 + (t3 - t2) * d1
+    der = (6.0 * t2 - 6.0 * t) * z0 + (3.0 * t2 - 4.0 * t + 1.0) * d0
+    der += (6.0 * t - 6.0 * t2) * z1 + (3.0 * t2 - 2.0 * t) * d1
+    sec = (1.0 - t) * tab[i, 2] + t * tab[i + 1, 2]
+    return val, der / step, sec, True
+
+
+@numba.njit(inline="always", **_JIT)
+def _locus_gap(
+    s, F, F1, F2, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn
+):
+    """Gap between the contact locus of the wheel circle at ``s`` and the rail, and ``dg/ds``.
+
+    ``F, F1, F2`` are the wheel's radius increase and its first two derivatives at ``s``.
+    Returns ``(g, dg, Py, Pz, zr, zr1, zr2, ok)``.
+    """
+    r = r0 + F
+    u = -F1 * tpsi
+    w = math.sqrt(1.0 - u * u)
+    px = r * u
+    py = tape + s
+    pz = -r * w
+    Py = cy + r21 * px + r22 * py + r23 * pz
+    Pz = cz + r31 * px + r32 * py + r33 * pz
+    zr, zr1, zr2, ok = _hermite(rtab, ry0, rstep, rn, Py)
+    if not ok:
+        return 1.0e9, 0.0, Py, Pz, 0.0, 0.0, 0.0, False
+    du = -F2 * tpsi
+    dw = -u * du / w
+    dpx = F1 * u + r * du
+    dpz = -F1 * w - r * dw
+    dPy = r21 * dpx + r22 + r23 * dpz
+    dPz = r31 * dpx + r32 + r33 * dpz
+    return Pz - zr, dPz - zr1 * dPy, Py, Pz, zr, zr1, zr2, True
+
+
+@numba.njit(**_JIT)
+def _slope_at(s, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi,
+              rtab, ry0, rstep, rn):  # fmt: skip
+    F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
+    if not okw:
+        return 0.0, 0.0, False
+    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
+        s, F, F1, F2, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn
+    )
+    return g, dg, ok
+
+
+@numba.njit(**_JIT)
+def _refine_minimum(sa, sb, sm, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
+                    r33, tpsi, rtab, ry0, rstep, rn):  # fmt: skip
+    """Refine a local minimum of the gap bracketed by ``[sa, sb]`` (``sm`` the best grid point).
+
+    Illinois iteration on ``g'(s) = 0``; falls back to ``sm`` when ``g'`` does not change sign.
+    """
+    ga, fa, oka = _slope_at(sa, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
+                            r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+    gb, fb, okb = _slope_at(sb, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
+                            r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+    if not (oka and okb) or fa >= 0.0 or fb <= 0.0:
+        return sm
+    side = 0
+    s = sm
+    for _ in range(40):
+        s = (sa * fb - sb * fa) / (fb - fa)
+        g, f, ok = _slope_at(s, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
+                             r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+        if not ok:
+            return sm
+        if f > 0.0:
+            sb = s
+            fb = f
+            if side == 1:
+                fa *= 0.5
+            side = 1
+        else:
+            sa = s
+            fa = f
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        if sb - sa < 1.0e-10 or abs(f) < 1.0e-12:
+            break
+    return s
+
+
+@numba.njit(**_JIT)
+def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s,
+                            cand_g):  # fmt: skip
+    """Local minima of the gap between a left-type wheel and its rail.
+
+    Args:
+        wtab, winfo: wheel table ``[F, F', F'']`` over ``s`` and its info row
+            ``(s0, step, n, r0, tape)``.
+        rtab, rinfo: rail table ``[z, z', z'']`` over track ``y`` and ``(y0, step, n)``.
+        cy, cz: wheelset centre relative to the rail's nominal position [m].
+        phi, psi: roll and yaw [rad] (left-type frame).
+        scan_step: coarse scan step [m].
+        cand_s, cand_g: output arrays (length ``MAX_POINTS``), refined ``s`` and gap, sorted by
+            increasing ``s``; unused entries hold NaN.
+
+    Returns:
+        the number of candidates found.
+    """
+    ws0 = winfo[WI_S0]
+    wstep = winfo[WI_STEP]
+    wn = int(winfo[WI_N])
+    r0 = winfo[WI_R0]
+    tape = winfo[WI_TAPE]
+    ry0 = rinfo[RI_Y0]
+    rstep = rinfo[RI_STEP]
+    rn = int(rinfo[RI_N])
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cpsi = math.cos(psi)
+    spsi = math.sin(psi)
+    tpsi = spsi / cpsi
+    r21 = cphi * spsi
+    r22 = cphi * cpsi
+    r23 = -sphi
+    r31 = sphi * spsi
+    r32 = sphi * cpsi
+    r33 = cphi
+    for k in range(MAX_POINTS):
+        cand_s[k] = np.nan
+        cand_g[k] = np.nan
+
+    # Wheel nodes whose locus falls on the rail table: Py ~ cy + r22 (tape + s) + sphi r0.
+    stride = max(1, int(round(scan_step / wstep)))
+    y_lo = ry0
+    y_hi = ry0 + (rn - 1) * rstep
+    margin = 0.004 + abs(spsi) * r0 * 3.0
+    s_lo = (y_lo - cy - sphi * r0) / r22 - tape - margin
+    s_hi = (y_hi - cy - sphi * r0) / r22 - tape + margin
+    k_lo = max(0, int((s_lo - ws0) / wstep))
+    k_hi = min(wn - 1, int((s_hi - ws0) / wstep) + 1)
+
+    n_found = 0
+    worst = 0  # index of the shallowest stored candidate (replaced when a deeper one appears)
+    g_prev2 = 1.0e9
+    g_prev1 = 1.0e9
+    k_prev1 = -1
+    k_prev2 = -1
+    k = k_lo
+    while k <= k_hi + stride:
+        kk = k if k <= k_hi else k_hi
+        s = ws0 + kk * wstep
+        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
+            s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2], r0, tape, cy, cz, r21, r22, r23, r31, r32,
+            r33, tpsi, rtab, ry0, rstep, rn,
+        )  # fmt: skip
+        if not ok:
+            g = 1.0e9
+        if k > k_hi:
+            g = 1.0e9  # sentinel after the last node closes a minimum at the edge
+        if k_prev1 >= 0 and g_prev1 < 1.0e8 and g_prev1 <= g_prev2 and g_prev1 < g:
+            # local minimum at k_prev1, bracketed by its neighbours
+            sa = ws0 + (k_prev2 if k_prev2 >= 0 else k_prev1) * wstep
+            sb = ws0 + min(kk, k_hi) * wstep
+            sm = ws0 + k_prev1 * wstep
+            if sb <= sm:
+                sb = sm
+            s_ref = _refine_minimum(sa, sb, sm, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22,
+                                    r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+            g_ref, dg_ref, ok_ref = _slope_at(s_ref, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21,
+                                              r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep,
+                                              rn)  # fmt: skip
+            if ok_ref:
+                duplicate = False
+                for j in range(n_found):
+                    if abs(cand_s[j] - s_ref) < 1.0e-7:
+                        duplicate = True
+                if not duplicate:
+                    if n_found < MAX_POINTS:
+                        cand_s[n_found] = s_ref
+                        cand_g[n_found] = g_ref
+                        n_found += 1
+                    else:
+                        worst = 0
+                        for j in range(1, MAX_POINTS):
+                            if cand_g[j] > cand_g[worst]:
+                                worst = j
+                        if g_ref < cand_g[worst]:
+                            cand_s[worst] = s_ref
+                            cand_g[worst] = g_ref
+        g_prev2 = g_prev1
+        k_prev2 = k_prev1
+        g_prev1 = g
+        k_prev1 = kk
+        k += stride
+    # sort by s (insertion sort, at most MAX_POINTS entries)
+    for i in range(1, n_found):
+        j = i
+        while j > 0 and cand_s[j - 1] > cand_s[j]:
+            ts = cand_s[j]
+            tg = cand_g[j]
+            cand_s[j] = cand_s[j - 1]
+            cand_g[j] = cand_g[j - 1]
+            cand_s[j - 1] = ts
+            cand_g[j - 1] = tg
+            j -= 1
+    return n_found
+
+
+@numba.njit(**_JIT)
+def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, cz, phi, psi,
+                  vx, vy, vz, wx, wy, wz, rail_dy, rail_dz, rail_vy, rail_vz, points, side,
+                  force):  # fmt: skip
+    """Contact forces of one wheel on its rail, all contact points.
+
+    The wheelset state is given in the real track frame; for the right wheel (``mirror = -1``)
+    it is mirrored into the left-type frame, evaluated, and the results mirrored back.
+
+    Args:
+        wtab, winfo, rtab, rinfo: wheel and rail tables (see :func:`find_contact_candidates`).
+        htab: Hertz table (:func:`railexu.contact.hertz.hertz_table`).
+        ktab: Kalker table for the Poisson ratio
+            (:func:`railexu.contact.kalker.kalker_table_for_poisson`).
+        params: parameter vector (``P_*`` indices).
+        mirror: +1.0 for the left wheel, -1.0 for the right wheel.
+        cx, cy, cz: wheelset centre, track frame [m].
+        phi, psi: roll and yaw [rad]; vx, vy, vz: centre velocity [m/s];
+        wx, wy, wz: angular velocity, track frame [rad/s].
+        rail_dy, rail_dz, rail_vy, rail_vz: lateral/vertical offset of this rail from its nominal
+            place (irregularity) and its velocity, track frame [m], [m/s].
+        points: output ``(2, MAX_POINTS, N_POINT_FIELDS)``; row ``side`` is written.
+        side: 0 left, 1 right.
+        force: output, 6 entries; the wheel's force [N] and torque about the wheelset centre
+            [N m] (track frame) are **added** to it.
+
+    Returns:
+        the number of contact points carrying load.
+    """
+    m = mirror
+    # Left-type frame: mirror y (and the pseudo-vector components x, z of omega).
+    lcy = m * cy - m * rail_dy
+    lcz = cz - rail_dz
+    lphi = m * phi
+    lpsi = m * psi
+    lvy = m * vy
+    lwx = m * wx
+    lwz = m * wz
+    lrvy = m * rail_vy
+    cand_s = np.empty(MAX_POINTS)
+    cand_g = np.empty(MAX_POINTS)
+    n_cand = find_contact_candidates(
+        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g
+    )
+    for k in range(MAX_POINTS):
+        for f in range(N_POINT_FIELDS):
+            points[side, k, f] = 0.0
+    ws0 = winfo[WI_S0]
+    wstep = winfo[WI_STEP]
+    wn = int(winfo[WI_N])
+    r0 = winfo[WI_R0]
+    tape = winfo[WI_TAPE]
+    ry0 = rinfo[RI_Y0]
+    rstep = rinfo[RI_STEP]
+    rn = int(rinfo[RI_N])
+    cphi = math.cos(lphi)
+    sphi = math.sin(lphi)
+    cpsi = math.cos(lpsi)
+    spsi = math.sin(lpsi)
+    tpsi = spsi / cpsi
+    r11 = cpsi
+    r12 = -spsi
+    r21 = cphi * spsi
+    r22 = cphi * cpsi
+    r23 = -sphi
+    r31 = sphi * spsi
+    r32 = sphi * cpsi
+    r33 = cphi
+    e_star = params[P_ESTAR]
+    shear = params[P_SHEAR]
+    speed = params[P_SPEED]
+    n_loaded = 0
+    for k in range(n_cand):
+        s = cand_s[k]
+        F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
+        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
+            s, F, F1, F2, r0, tape, lcy, lcz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0,
+            rstep, rn,
+        )  # fmt: skip
+        r = r0 + F
+        u = -F1 * tpsi
+        w = math.sqrt(1.0 - u * u)
+        px = r * u
+        py = tape + s
+        pz = -r * w
+        # contact point relative to the wheelset centre (left-type frame)
+        relx = r11 * px + r12 * py
+        rely = r21 * px + r22 * py + r23 * pz
+        relz = r31 * px + r32 * py + r33 * pz
+        inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
+        ny = -zr1 * inv
+        nz = inv
+        delta = -g * inv
+        # principal curvatures, convex positive
+        q = 1.0 + F1 * F1
+        kwx = 1.0 / (r * math.sqrt(q))
+        kwy = -F2 / (q * math.sqrt(q))
+        kry = -zr2 * inv * inv * inv
+        # velocity of the wheel's material point at the contact, relative to the rail
+        vrx = vx + wy * relz - lwz * rely
+        vry = lvy + lwz * relx - lwx * relz - lrvy
+        vrz = vz + lwx * rely - wy * relx - rail_vz
+        delta_dot = -(vry * ny + vrz * nz)
+        normal = 0.0
+        a = 0.0
+        b = 0.0
+        xi = 0.0
+        eta = 0.0
+        spin = 0.0
+        fx = 0.0
+        fy = 0.0
+        if delta > 0.0:
+            kh, alpha_a, alpha_b = hertz_coefficients_nb(htab, 0.5 * kwx, 0.5 * (kwy + kry), e_star)
+            sd = math.sqrt(delta)
+            elastic = kh * delta * sd
+            if params[P_DAMP_MODEL] == 0.0:
+                normal = elastic + params[P_DAMP] * delta_dot
+            else:
+                normal = elastic * (1.0 + params[P_DAMP] * delta_dot)
+            if normal < 0.0:
+                normal = 0.0
+            a = alpha_a * sd
+            b = alpha_b * sd
+            # creepages in the left-type contact frame: t_x = e_x, t_y = n x t_x = (0, nz, -ny)
+            xi = vrx / speed
+            eta = (vry * nz - vrz * ny) / speed
+            spin = (lwx * 0.0 + wy * ny + lwz * nz) / speed
+            if normal > 0.0 and params[P_TANGENTIAL] != 0.0:
+                c11, c22, c23 = kalker_coefficients_nb(ktab, a / b)
+                fx, fy = creep_forces_nb(
+                    int(params[P_CREEP]), xi, eta, spin, normal, a, b, shear, c11, c22, c23,
+                    params[P_MU], params[P_KA], params[P_KS], params[P_FRIC_A],
+                    params[P_FRIC_B], speed,
+                )  # fmt: skip
+            if normal > 0.0:
+                n_loaded += 1
+        # total force on the wheel, left-type frame
+        ftx = fx
+        fty = normal * ny + fy * nz
+        ftz = normal * nz - fy * ny
+        # back to the real frame
+        real_rely = m * rely
+        real_fty = m * fty
+        force[0] += ftx
+        force[1] += real_fty
+        force[2] += ftz
+        force[3] += real_rely * ftz - relz * real_fty
+        force[4] += relz * ftx - relx * ftz
+        force[5] += relx * real_fty - real_rely * ftx
+        pt = points[side, k]
+        pt[PF_ACTIVE] = 1.0
+        pt[PF_S] = s
+        pt[PF_YRAIL] = Py
+        pt[PF_X] = cx + relx
+        pt[PF_Y] = cy + real_rely
+        pt[PF_Z] = cz + relz
+        pt[PF_RADIUS] = r
+        pt[PF_ANGLE] = math.atan(zr1)
+        pt[PF_GAP] = g
+        pt[PF_DELTA] = delta
+        pt[PF_N] = normal
+        pt[PF_A] = a
+        pt[PF_B] = b
+        pt[PF_XI] = xi
+        pt[PF_ETA] = m * eta
+        pt[PF_SPIN] = m * spin
+        pt[PF_FX] = fx
+        pt[PF_FY] = m * fy
+        pt[PF_FTX] = ftx
+        pt[PF_FTY] = real_fty
+        pt[PF_FTZ] = ftz
+        pt[PF_KWX] = kwx
+        pt[PF_KWY] = kwy
+        pt[PF_KRY] = kry
+        pt[PF_DELTA_DOT] = delta_dot
+        pt[PF_NX] = 0.0
+        pt[PF_NY] = m * ny
+        pt[PF_NZ] = nz
+    return n_loaded
+
+
+@numba.njit(**_JIT)
+def wheelset_contact(wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r, rinfo_r, htab,
+                     ktab, params, state, rails, points, force):  # fmt: skip
+    """Contact forces of a whole wheelset: both wheels, all contact points.
+
+    Args:
+        state: 11 entries ``(x, y, z, phi, psi, vx, vy, vz, wx, wy, wz)`` of the wheelset centre,
+            track frame (m, rad, m/s, rad/s).
+        rails: 8 entries ``(dy_l, dz_l, vy_l, vz_l, dy_r, dz_r, vy_r, vz_r)``: offsets of the left
+            and right rail from their nominal places and their velocities [m], [m/s].
+        points: output ``(2, MAX_POINTS, N_POINT_FIELDS)``.
+        force: output, 6 entries: total force [N] and torque about the centre [N m], track frame.
+
+    Returns:
+        the number of loaded contact points of the wheelset.
+    """
+    for i in range(6):
+        force[i] = 0.0
+    n = wheel_contact(
+        wtab_l, winfo_l, rtab_l, rinfo_l, htab, ktab, params, 1.0, state[0], state[1], state[2],
+        state[3], state[4], state[5], state[6], state[7], state[8], state[9], state[10],
+        rails[0], rails[1], rails[2], rails[3], points, 0, force,
+    )  # fmt: skip
+    n += wheel_contact(
+        wtab_r, winfo_r, rtab_r, rinfo_r, htab, ktab, params, -1.0, state[0], state[1], state[2],
+        state[3], state[4], state[5], state[6], state[7], state[8], state[9], state[10],
+        rails[4], rails[5], rails[6], rails[7], points, 1, force,
+    )  # fmt: skip
+    return n

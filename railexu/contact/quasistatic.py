@@ -1,0 +1,201 @@
+"""Quasi-static wheelset on its rails: rigid contact, pressed under load, sweeps over lateral shift.
+
+- :func:`rigid_contact`: height and roll of a wheelset resting on rigid rails at lateral
+  displacement ``y`` and yaw ``psi`` (both wheels just touch). The roll follows from
+  ``g_left(phi) = g_right(phi)``: a vertical shift changes every gap by the same amount, so the
+  roll is found first by a bracketed 1-D root search and the height then follows exactly.
+- :func:`press_wheelset`: height and roll such that each wheel carries its vertical load
+  (the vertical component of its total contact force, normal and tangential, over all its contact
+  points), by alternating bracketed root searches on the two wheels' heights.
+- :func:`rolling_radius_difference`: ``Delta r(y) = r_left - r_right`` of the rigid contact
+  (positive when the wheelset moves to the left), from which :mod:`railexu.contact.conicity`
+  computes the equivalent conicity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .evaluation import WheelsetContactModel, WheelsetContactResult
+
+
+class ContactSolveError(RuntimeError):
+    """A quasi-static contact problem without a solution (wheel off its rail, no convergence)."""
+
+
+def _min_gaps(model: WheelsetContactModel, y: float, z: float, phi: float, psi: float):
+    gl = model.gap_candidates("left", y, z, phi, psi)[1]
+    gr = model.gap_candidates("right", y, z, phi, psi)[1]
+    if gl.size == 0 or gr.size == 0:
+        side = "left" if gl.size == 0 else "right"
+        raise ContactSolveError(
+            f"no contact candidate on the {side} wheel at y = {y * 1e3:.2f} mm, "
+            f"psi = {psi * 1e3:.2f} mrad: the wheel is off its rail"
+        )
+    return float(np.min(gl)), float(np.min(gr))
+
+
+@dataclass(frozen=True)
+class RigidContact:
+    """Wheelset on rigid rails: centre height [m] and roll [rad] at a lateral shift and yaw."""
+
+    lateral_m: float
+    yaw_rad: float
+    vertical_m: float
+    roll_rad: float
+
+
+def rigid_contact(
+    model: WheelsetContactModel, lateral_m: float, yaw_rad: float = 0.0
+) -> RigidContact:
+    """Height and roll of a wheelset whose two wheels just touch rigid rails.
+
+    Args:
+        model: the wheelset's contact model (geometry is what matters here).
+        lateral_m: lateral displacement of the wheelset centre [m], positive to the left.
+        yaw_rad: yaw angle [rad].
+    """
+    r0 = model.geometry.left.nominal_radius_m
+    z0 = r0
+
+    def h(phi: float) -> float:
+        gl, gr = _min_gaps(model, lateral_m, z0, phi, yaw_rad)
+        return gl - gr
+
+    # Roll grows with y by ~ (delta r)/(2 e0): a few mrad with flange contact. Bracket outwards.
+    lo, hi = -0.002, 0.002
+    h_lo, h_hi = h(lo), h(hi)
+    for _ in range(12):
+        if h_lo * h_hi <= 0.0:
+            break
+        lo *= 2.0
+        hi *= 2.0
+        h_lo, h_hi = h(lo), h(hi)
+    else:
+        raise ContactSolveError(
+            f"no rigid contact roll angle found at y = {lateral_m * 1e3:.2f} mm"
+        )
+    phi = brentq(h, lo, hi, xtol=1e-13, rtol=1e-13, maxiter=200)
+    gl, _ = _min_gaps(model, lateral_m, z0, phi, yaw_rad)
+    return RigidContact(lateral_m, yaw_rad, z0 - gl, phi)
+
+
+@dataclass(frozen=True)
+class PressedWheelset:
+    """Wheelset pressed onto its rails under given wheel loads."""
+
+    lateral_m: float
+    yaw_rad: float
+    vertical_m: float
+    roll_rad: float
+    result: WheelsetContactResult
+
+
+def _wheel_loads(model: WheelsetContactModel, y, z, phi, psi) -> tuple[np.ndarray, object]:
+    res = model.evaluate(y, z, phi, psi)
+    return np.array([res.wheel_force_N("left")[2], res.wheel_force_N("right")[2]]), res
+
+
+def press_wheelset(
+    model: WheelsetContactModel,
+    lateral_m: float,
+    yaw_rad: float,
+    load_N: float | tuple[float, float],
+    *,
+    tolerance_N: float = 1e-3,
+    max_sweeps: int = 100,
+) -> PressedWheelset:
+    """Press a wheelset onto its rails until each wheel carries its vertical load.
+
+    The wheelset rolls forward at the model's speed V with ``omega = V / r0`` about its axle; the
+    load of a wheel is the vertical component of its total contact force (normal and tangential
+    forces of all its contact points). The unknowns are the heights of the two wheels' planes,
+    ``z_left = z + e0 sin(phi)`` and ``z_right = z - e0 sin(phi)``: each wheel's load depends
+    mostly on its own height and falls monotonically as it rises, so alternating bracketed 1-D
+    root searches (Gauss-Seidel) converge robustly even on a steep flange, whose vertical
+    stiffness is a small fraction of the tread's.
+
+    Args:
+        model: the wheelset's contact model.
+        lateral_m: lateral displacement [m]; yaw_rad: yaw [rad].
+        load_N: vertical load per wheel [N], one value or ``(left, right)``.
+        tolerance_N: accepted load error per wheel [N].
+    """
+    loads = np.broadcast_to(np.asarray(load_N, dtype=float), (2,)).copy()
+    if np.any(loads <= 0.0):
+        raise ContactSolveError(f"wheel loads must be > 0 N, got {loads}")
+    e0 = model.geometry.left.tape_circle_lateral_m
+    rigid = rigid_contact(model, lateral_m, yaw_rad)
+    u = np.array(
+        [
+            rigid.vertical_m + e0 * np.sin(rigid.roll_rad),
+            rigid.vertical_m - e0 * np.sin(rigid.roll_rad),
+        ]
+    )
+
+    def pose(u_: np.ndarray) -> tuple[float, float]:
+        return 0.5 * (u_[0] + u_[1]), float(np.arcsin((u_[0] - u_[1]) / (2.0 * e0)))
+
+    def loads_at(u_: np.ndarray):
+        z, phi = pose(u_)
+        return _wheel_loads(model, lateral_m, z, phi, yaw_rad)
+
+    f, res = loads_at(u)
+    for _ in range(max_sweeps):
+        if np.max(np.abs(f - loads)) < tolerance_N:
+            z, phi = pose(u)
+            return PressedWheelset(lateral_m, yaw_rad, z, phi, res)
+        for i in (0, 1):
+
+            def residual(ui: float, i: int = i) -> float:
+                trial = u.copy()
+                trial[i] = ui
+                return float(loads_at(trial)[0][i] - loads[i])
+
+            hi = u[i] + 1.0e-5
+            r_hi = residual(hi)
+            while r_hi > 0.0:  # still loaded: lift further
+                hi += 2.0e-4
+                r_hi = residual(hi)
+            lo = hi - 2.0e-4
+            r_lo = residual(lo)
+            for _ in range(40):
+                if r_lo >= 0.0:
+                    break
+                lo -= 2.0e-4
+                r_lo = residual(lo)
+            else:
+                raise ContactSolveError(
+                    f"the {('left', 'right')[i]} wheel cannot carry {loads[i]:.0f} N at "
+                    f"y = {lateral_m * 1e3:.2f} mm, yaw = {yaw_rad * 1e3:.2f} mrad"
+                )
+            u[i] = brentq(residual, lo, hi, xtol=1e-13, rtol=1e-14, maxiter=200)
+        f, res = loads_at(u)
+    raise ContactSolveError(
+        f"wheelset could not be pressed onto the rails at y = {lateral_m * 1e3:.2f} mm, "
+        f"yaw = {yaw_rad * 1e3:.2f} mrad: loads {f} N, wanted {loads} N"
+    )
+
+
+def rolling_radius_difference(
+    model: WheelsetContactModel, lateral_m: np.ndarray, yaw_rad: float = 0.0
+) -> np.ndarray:
+    """Rolling radius difference ``r_left - r_right`` [m] of the rigid contact at each ``y`` [m].
+
+    Where a wheel touches at two points, the radius of the point with the smaller gap (the one
+    that touches first) is used.
+    """
+    out = np.empty(np.size(lateral_m))
+    for i, y in enumerate(np.atleast_1d(lateral_m)):
+        rc = rigid_contact(model, float(y), yaw_rad)
+        radii = []
+        for side in ("left", "right"):
+            s, g = model.gap_candidates(side, float(y), rc.vertical_m, rc.roll_rad, yaw_rad)
+            k = int(np.argmin(g))
+            pair = model.geometry.left if side == "left" else model.geometry.right
+            radii.append(pair.nominal_radius_m + float(pair.wheel.height(s[k])))
+        out[i] = radii[0] - radii[1]
+    return out

@@ -1,0 +1,121 @@
+"""Look up wheel and rail profiles by built-in name or file path."""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import math
+import os
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+
+from .builtin import rail_60e1, s1002
+from .core import Profile, ProfileError
+from .readers import read_simpack_profile, read_xy_profile
+
+#: Cant of the Manchester benchmark rail file (already contained in its points) [rad].
+MBENCH_RAIL_INCLINATION_RAD = math.atan(1.0 / 40.0)
+
+
+def _read_packaged(filename: str, **kwargs) -> Profile:
+    """Read a SIMPACK file packaged in ``railexu/data/profiles`` (importlib.resources)."""
+    ref = resources.files("railexu").joinpath("data", "profiles", filename)
+    with resources.as_file(ref) as path:
+        return read_simpack_profile(path, **kwargs)
+
+
+@functools.cache
+def mbench_s1002() -> Profile:
+    """The Manchester benchmark S1002 wheel (``MBench_S1002_v3.prw``, packaged).
+
+    The file's flange-back point (-70 mm) is commented out, so the data start at -69.61 mm;
+    the flange back is set to the S1002 value -0.070 m.
+    """
+    return _read_packaged("MBench_S1002_v3.prw", name="MBench_S1002", flange_back_m=-0.070)
+
+
+@functools.cache
+def mbench_uic60() -> Profile:
+    """The Manchester benchmark UIC60 rail (``MBench_UIC60_v3.prr``, packaged).
+
+    Already canted 1:40 (``inclination_rad = atan(1/40)``); origin at the highest point of the
+    canted head; gauge side at negative lateral coordinates (field side positive), as
+    conventions.md wants.
+    """
+    return _read_packaged(
+        "MBench_UIC60_v3.prr", name="MBench_UIC60", inclination_rad=MBENCH_RAIL_INCLINATION_RAD
+    )
+
+
+_WHEELS: dict[str, Callable[[], Profile]] = {"S1002": s1002, "MBench_S1002": mbench_s1002}
+_RAILS: dict[str, Callable[[], Profile]] = {
+    "UIC60": rail_60e1,
+    "60E1": rail_60e1,
+    "MBench_UIC60": mbench_uic60,
+}
+
+#: Built-in wheel profile names (case-insensitive).
+BUILTIN_WHEELS = tuple(_WHEELS)
+#: Built-in rail profile names (case-insensitive).
+BUILTIN_RAILS = tuple(_RAILS)
+
+
+def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
+    table = _WHEELS if kind == "wheel" else _RAILS
+    if isinstance(name_or_path, str):
+        key = name_or_path.strip().lower()
+        for name, builder in table.items():
+            if name.lower() == key:
+                return builder()
+    elif not isinstance(name_or_path, os.PathLike):
+        raise TypeError(
+            f"{kind} profile: expected a name or a path, got {type(name_or_path).__name__}"
+        )
+    text = os.fspath(name_or_path)
+    path = Path(text)
+    looks_like_path = (
+        isinstance(name_or_path, os.PathLike)
+        or path.suffix != ""
+        or "/" in text
+        or os.sep in text
+        or path.exists()
+    )
+    if not looks_like_path:
+        names = list(table)
+        close = difflib.get_close_matches(
+            text.strip().lower(), [n.lower() for n in names], n=3, cutoff=0.5
+        )
+        suggestion = ""
+        if close:
+            proper = [next(n for n in names if n.lower() == c) for c in close]
+            suggestion = " Did you mean " + " or ".join(repr(p) for p in proper) + "?"
+        ext = ".prw" if kind == "wheel" else ".prr"
+        raise ProfileError(
+            f"unknown {kind} profile {text!r}.{suggestion} Built-in {kind} profiles: "
+            f"{', '.join(names)}; or give a file path ({ext} SIMPACK, anything else two-column "
+            "text 'lateral height' in mm)."
+        )
+    if not path.is_file():
+        raise ProfileError(f"{kind} profile file {text!r} does not exist")
+    if path.suffix.lower() in (".prw", ".prr"):
+        profile = read_simpack_profile(path)
+    else:
+        profile = read_xy_profile(path, kind, unit="mm")
+    if profile.kind != kind:
+        raise ProfileError(f"{path}: this is a {profile.kind} profile, expected a {kind} profile")
+    return profile
+
+
+def wheel_profile(name_or_path: str | os.PathLike) -> Profile:
+    """A wheel profile by built-in name (case-insensitive: ``"S1002"``, ``"MBench_S1002"``) or
+    by path (``.prw``: SIMPACK; anything else: two-column text in mm, see
+    :func:`read_xy_profile`)."""
+    return _lookup(name_or_path, "wheel")
+
+
+def rail_profile(name_or_path: str | os.PathLike) -> Profile:
+    """A rail profile by built-in name (case-insensitive: ``"UIC60"``, ``"60E1"`` - the analytic
+    upright head - and ``"MBench_UIC60"``, canted 1:40) or by path (``.prr``: SIMPACK;
+    anything else: two-column text in mm, upright)."""
+    return _lookup(name_or_path, "rail")
