@@ -279,5 +279,5 @@ def test_different_wheels_left_and_right():
 
 
 def test_kernel_output_layout():
-    assert K.N_POINT_FIELDS == K.PF_NZ + 1
+    assert K.N_POINT_FIELDS == K.PF_WEIGHT + 1
     assert K.N_PARAMS == K.P_TANGENTIAL + 1

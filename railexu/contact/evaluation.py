@@ -55,6 +55,13 @@ class ContactParameters:
         damping_model: ``"linear"`` (seed eq. 2, ``N = K d^1.5 + D d_dot``) or ``"hunt_crossley"``.
         damping: D [N s/m] for ``linear``, chi [s/m] for ``hunt_crossley``.
         scan_step_m: step of the coarse scan for contact points along the wheel profile [m].
+        curvature_smoothing_m: width (standard deviation of a Gaussian) over which the profiles'
+            lateral curvature is averaged for Hertz's ellipse [m]. A contact patch is several mm
+            wide on the tread (0.4 mm at a flange), so the curvature at one point, which jumps
+            where two arcs of a profile meet, would make the normal stiffness jump as the point
+            crosses the junction; averaged over 0.5 mm it varies continuously and the flange's
+            narrow ellipse is kept (the Manchester comparison holds from 0.3 to 0.5 mm). The
+            geometry itself (gap, contact angle) is not smoothed.
         tangential: compute creep forces (False: normal forces only).
     """
 
@@ -66,6 +73,7 @@ class ContactParameters:
     damping_model: str = "linear"
     damping: float = 1.0e5
     scan_step_m: float = 5.0e-4
+    curvature_smoothing_m: float = 5.0e-4
     tangential: bool = True
 
     def __post_init__(self) -> None:
@@ -79,6 +87,10 @@ class ContactParameters:
             raise ContactParameterError(f"friction must be >= 0, got {self.friction}")
         if not self.damping >= 0.0:
             raise ContactParameterError(f"contact damping must be >= 0, got {self.damping}")
+        if not 0.0 <= self.curvature_smoothing_m <= 5.0e-3:
+            raise ContactParameterError(
+                f"curvature smoothing must be within 0 .. 5 mm, got {self.curvature_smoothing_m} m"
+            )
         if not 1.0e-5 <= self.scan_step_m <= 5.0e-3:
             raise ContactParameterError(
                 f"scan step must be within 0.01 .. 5 mm, got {self.scan_step_m} m"
@@ -118,18 +130,33 @@ class ContactParameters:
         return p
 
 
-def wheel_arrays(pair: WheelRailPair) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel table ``[F, F', F'']`` and info row ``(s0, step, n, r0, tape)`` of a placed wheel."""
+def _smoothed(d2z: np.ndarray, step_m: float, width_m: float) -> np.ndarray:
+    """Second derivative averaged with a Gaussian of standard deviation ``width_m``."""
+    if width_m <= 0.0:
+        return d2z.copy()
+    from scipy.ndimage import gaussian_filter1d
+
+    return gaussian_filter1d(d2z, width_m / step_m, mode="nearest")
+
+
+def wheel_arrays(
+    pair: WheelRailPair, curvature_smoothing_m: float = 5.0e-4
+) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel table ``[F, F', F'', F''_smooth]`` and info row ``(s0, step, n, r0, tape)``."""
     t = pair.wheel_table
-    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z]), dtype=np.float64)
+    smooth = _smoothed(np.asarray(t.d2z), t.step_m, curvature_smoothing_m)
+    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z, smooth]), dtype=np.float64)
     info = np.array([t.y0_m, t.step_m, t.z.size, pair.nominal_radius_m, pair.tape_circle_lateral_m])
     return tab, info
 
 
-def rail_arrays(pair: WheelRailPair) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel table ``[z, z', z'']`` over track ``y`` and info row ``(y0, step, n)`` of a rail."""
+def rail_arrays(
+    pair: WheelRailPair, curvature_smoothing_m: float = 5.0e-4
+) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel table ``[z, z', z'', z''_smooth]`` over track ``y`` and info ``(y0, step, n)``."""
     t = pair.rail_table
-    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z]), dtype=np.float64)
+    smooth = _smoothed(np.asarray(t.d2z), t.step_m, curvature_smoothing_m)
+    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z, smooth]), dtype=np.float64)
     return tab, np.array([t.y0_m, t.step_m, t.z.size])
 
 
@@ -158,6 +185,7 @@ class ContactPoint:
     wheel_curvature_long_per_m: float
     wheel_curvature_lat_per_m: float
     rail_curvature_lat_per_m: float
+    weight: float = 1.0
 
     @property
     def loaded(self) -> bool:
@@ -201,10 +229,11 @@ class WheelsetContactModel:
     ) -> None:
         self.geometry = geometry
         self.parameters = parameters or ContactParameters()
-        self.wtab_l, self.winfo_l = wheel_arrays(geometry.left)
-        self.rtab_l, self.rinfo_l = rail_arrays(geometry.left)
-        self.wtab_r, self.winfo_r = wheel_arrays(geometry.right)
-        self.rtab_r, self.rinfo_r = rail_arrays(geometry.right)
+        width = self.parameters.curvature_smoothing_m
+        self.wtab_l, self.winfo_l = wheel_arrays(geometry.left, width)
+        self.rtab_l, self.rinfo_l = rail_arrays(geometry.left, width)
+        self.wtab_r, self.winfo_r = wheel_arrays(geometry.right, width)
+        self.rtab_r, self.rinfo_r = rail_arrays(geometry.right, width)
         self.htab = hertz_table()
         self.ktab = kalker_table_for_poisson(self.parameters.poisson)
         self.params = self.parameters.kernel_vector(speed_m_per_s)
@@ -307,6 +336,7 @@ class WheelsetContactModel:
                         wheel_curvature_long_per_m=float(row[K.PF_KWX]),
                         wheel_curvature_lat_per_m=float(row[K.PF_KWY]),
                         rail_curvature_lat_per_m=float(row[K.PF_KRY]),
+                        weight=float(row[K.PF_WEIGHT]),
                     )
                 )
         return WheelsetContactResult(
@@ -328,8 +358,9 @@ class WheelsetContactModel:
             raise ValueError(f"side must be 'left' or 'right', got {side!r}")
         cs = np.empty(K.MAX_POINTS)
         cg = np.empty(K.MAX_POINTS)
+        ch = np.empty(K.MAX_POINTS)
         n = K.find_contact_candidates(
             wtab, winfo, rtab, rinfo, m * lateral_m, vertical_m, m * roll_rad, m * yaw_rad,
-            self.params[K.P_SCAN], cs, cg,
+            self.params[K.P_SCAN], cs, cg, ch,
         )  # fmt: skip
         return cs[:n].copy(), cg[:n].copy()

@@ -75,7 +75,8 @@ PF_DELTA_DOT = 24  # penetration rate [m/s]
 PF_NX = 25  # contact normal, track frame
 PF_NY = 26
 PF_NZ = 27
-N_POINT_FIELDS = 28
+PF_WEIGHT = 28  # weight of a minimum inside a shared overlap region (candidate_weights)
+N_POINT_FIELDS = 29
 
 # Entries of the parameter vector ``params``.
 P_ESTAR = 0  # effective modulus E* [Pa]
@@ -129,67 +130,121 @@ def _hermite(tab, y0, step, n, y):
 
 
 @numba.njit(inline="always", **_JIT)
-def _locus_gap(
-    s, F, F1, F2, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn
-):
+def _linear(tab, col, y0, step, n, y):
+    """Linear interpolation of column ``col`` (the smoothed second derivative)."""
+    u = (y - y0) / step
+    if u < 0.0:
+        u = 0.0
+    if u > n - 1.0:
+        u = n - 1.0
+    i = int(u)
+    if i >= n - 1:
+        i = n - 2
+    t = u - i
+    return (1.0 - t) * tab[i, col] + t * tab[i + 1, col]
+
+
+# ``ctx``: the pose of one wheel relative to its rail and the table geometry, a tuple of floats
+C_R0, C_TAPE, C_CY, C_CZ = 0, 1, 2, 3
+C_R21, C_R22, C_R23, C_R31, C_R32, C_R33, C_TPSI = 4, 5, 6, 7, 8, 9, 10
+C_WS0, C_WSTEP, C_WN, C_RY0, C_RSTEP, C_RN = 11, 12, 13, 14, 15, 16
+
+
+@numba.njit(inline="always", **_JIT)
+def _make_ctx(winfo, rinfo, cy, cz, phi, psi):
+    cphi = math.cos(phi)
+    sphi = math.sin(phi)
+    cpsi = math.cos(psi)
+    spsi = math.sin(psi)
+    return (
+        winfo[WI_R0], winfo[WI_TAPE], cy, cz,
+        cphi * spsi, cphi * cpsi, -sphi, sphi * spsi, sphi * cpsi, cphi, spsi / cpsi,
+        winfo[WI_S0], winfo[WI_STEP], winfo[WI_N], rinfo[RI_Y0], rinfo[RI_STEP], rinfo[RI_N],
+    )  # fmt: skip
+
+
+@numba.njit(inline="always", **_JIT)
+def _locus_gap(s, F, F1, F2, rtab, ctx):
     """Gap between the contact locus of the wheel circle at ``s`` and the rail, and ``dg/ds``.
 
     ``F, F1, F2`` are the wheel's radius increase and its first two derivatives at ``s``.
     Returns ``(g, dg, Py, Pz, zr, zr1, zr2, ok)``.
     """
-    r = r0 + F
-    u = -F1 * tpsi
+    r = ctx[C_R0] + F
+    u = -F1 * ctx[C_TPSI]
     w = math.sqrt(1.0 - u * u)
     px = r * u
-    py = tape + s
+    py = ctx[C_TAPE] + s
     pz = -r * w
-    Py = cy + r21 * px + r22 * py + r23 * pz
-    Pz = cz + r31 * px + r32 * py + r33 * pz
-    zr, zr1, zr2, ok = _hermite(rtab, ry0, rstep, rn, Py)
+    Py = ctx[C_CY] + ctx[C_R21] * px + ctx[C_R22] * py + ctx[C_R23] * pz
+    Pz = ctx[C_CZ] + ctx[C_R31] * px + ctx[C_R32] * py + ctx[C_R33] * pz
+    zr, zr1, zr2, ok = _hermite(rtab, ctx[C_RY0], ctx[C_RSTEP], int(ctx[C_RN]), Py)
     if not ok:
         return 1.0e9, 0.0, Py, Pz, 0.0, 0.0, 0.0, False
-    du = -F2 * tpsi
+    du = -F2 * ctx[C_TPSI]
     dw = -u * du / w
     dpx = F1 * u + r * du
     dpz = -F1 * w - r * dw
-    dPy = r21 * dpx + r22 + r23 * dpz
-    dPz = r31 * dpx + r32 + r33 * dpz
+    dPy = ctx[C_R21] * dpx + ctx[C_R22] + ctx[C_R23] * dpz
+    dPz = ctx[C_R31] * dpx + ctx[C_R32] + ctx[C_R33] * dpz
     return Pz - zr, dPz - zr1 * dPy, Py, Pz, zr, zr1, zr2, True
 
 
 @numba.njit(**_JIT)
-def _slope_at(s, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi,
-              rtab, ry0, rstep, rn):  # fmt: skip
-    F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
+def _gap_at(s, wtab, rtab, ctx):
+    """``(g, dg/ds, ok)`` at wheel coordinate ``s`` (outside the tables: ``g = 1e9``)."""
+    F, F1, F2, okw = _hermite(wtab, ctx[C_WS0], ctx[C_WSTEP], int(ctx[C_WN]), s)
     if not okw:
-        return 0.0, 0.0, False
-    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
-        s, F, F1, F2, r0, tape, cy, cz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn
-    )
+        return 1.0e9, 0.0, False
+    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
     return g, dg, ok
 
 
-@numba.njit(**_JIT)
-def _refine_minimum(sa, sb, sm, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
-                    r33, tpsi, rtab, ry0, rstep, rn):  # fmt: skip
-    """Refine a local minimum of the gap bracketed by ``[sa, sb]`` (``sm`` the best grid point).
+_GOLDEN = 0.6180339887498949
 
-    Illinois iteration on ``g'(s) = 0``; falls back to ``sm`` when ``g'`` does not change sign.
+
+@numba.njit(**_JIT)
+def _golden(sa, sb, wtab, rtab, ctx, sign, iterations):
+    """Golden-section search for a local minimum of ``sign * g`` in ``[sa, sb]``."""
+    c = sb - _GOLDEN * (sb - sa)
+    d = sa + _GOLDEN * (sb - sa)
+    fc = sign * _gap_at(c, wtab, rtab, ctx)[0]
+    fd = sign * _gap_at(d, wtab, rtab, ctx)[0]
+    for _ in range(iterations):
+        if fc < fd:
+            sb = d
+            d = c
+            fd = fc
+            c = sb - _GOLDEN * (sb - sa)
+            fc = sign * _gap_at(c, wtab, rtab, ctx)[0]
+        else:
+            sa = c
+            c = d
+            fc = fd
+            d = sa + _GOLDEN * (sb - sa)
+            fd = sign * _gap_at(d, wtab, rtab, ctx)[0]
+    return 0.5 * (sa + sb)
+
+
+@numba.njit(**_JIT)
+def _refine_minimum(sa, sb, wtab, rtab, ctx):
+    """Refine a local minimum of the gap bracketed by ``[sa, sb]``.
+
+    Illinois iteration on ``g'(s) = 0`` (superlinear); where ``g'`` does not change sign over
+    the bracket (two shallow minima in one scan cell, or a minimum at the bracket's end) a
+    golden-section search on ``g`` instead, which always converges to a local minimum.
     """
-    ga, fa, oka = _slope_at(sa, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
-                            r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
-    gb, fb, okb = _slope_at(sb, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
-                            r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+    ga, fa, oka = _gap_at(sa, wtab, rtab, ctx)
+    gb, fb, okb = _gap_at(sb, wtab, rtab, ctx)
     if not (oka and okb) or fa >= 0.0 or fb <= 0.0:
-        return sm
+        return _golden(sa, sb, wtab, rtab, ctx, 1.0, 48)
     side = 0
-    s = sm
-    for _ in range(40):
+    s = 0.5 * (sa + sb)
+    for _ in range(60):
         s = (sa * fb - sb * fa) / (fb - fa)
-        g, f, ok = _slope_at(s, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22, r23, r31, r32,
-                             r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
+        g, f, ok = _gap_at(s, wtab, rtab, ctx)
         if not ok:
-            return sm
+            return _golden(sa, sb, wtab, rtab, ctx, 1.0, 48)
         if f > 0.0:
             sb = s
             fb = f
@@ -202,64 +257,59 @@ def _refine_minimum(sa, sb, sm, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22
             if side == -1:
                 fb *= 0.5
             side = -1
-        if sb - sa < 1.0e-10 or abs(f) < 1.0e-12:
+        if sb - sa < 1.0e-11 or abs(f) < 1.0e-13:
             break
     return s
 
 
 @numba.njit(**_JIT)
 def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s,
-                            cand_g):  # fmt: skip
+                            cand_g, cand_h):  # fmt: skip
     """Local minima of the gap between a left-type wheel and its rail.
 
     Args:
-        wtab, winfo: wheel table ``[F, F', F'']`` over ``s`` and its info row
+        wtab, winfo: wheel table ``[F, F', F'', F''_smooth]`` over ``s`` and its info row
             ``(s0, step, n, r0, tape)``.
-        rtab, rinfo: rail table ``[z, z', z'']`` over track ``y`` and ``(y0, step, n)``.
+        rtab, rinfo: rail table ``[z, z', z'', z''_smooth]`` over track ``y``, ``(y0, step, n)``.
         cy, cz: wheelset centre relative to the rail's nominal position [m].
         phi, psi: roll and yaw [rad] (left-type frame).
         scan_step: coarse scan step [m].
         cand_s, cand_g: output arrays (length ``MAX_POINTS``), refined ``s`` and gap, sorted by
             increasing ``s``; unused entries hold NaN.
+        cand_h: output (length ``MAX_POINTS``): ``cand_h[k]`` is the highest gap between
+            candidates ``k`` and ``k + 1`` (the hump separating them), computed only where both
+            overlap the rail (NaN otherwise).
 
     Returns:
         the number of candidates found.
     """
-    ws0 = winfo[WI_S0]
-    wstep = winfo[WI_STEP]
-    wn = int(winfo[WI_N])
-    r0 = winfo[WI_R0]
-    tape = winfo[WI_TAPE]
-    ry0 = rinfo[RI_Y0]
-    rstep = rinfo[RI_STEP]
-    rn = int(rinfo[RI_N])
-    cphi = math.cos(phi)
-    sphi = math.sin(phi)
-    cpsi = math.cos(psi)
-    spsi = math.sin(psi)
-    tpsi = spsi / cpsi
-    r21 = cphi * spsi
-    r22 = cphi * cpsi
-    r23 = -sphi
-    r31 = sphi * spsi
-    r32 = sphi * cpsi
-    r33 = cphi
+    ctx = _make_ctx(winfo, rinfo, cy, cz, phi, psi)
+    ws0 = ctx[C_WS0]
+    wstep = ctx[C_WSTEP]
+    wn = int(ctx[C_WN])
+    r0 = ctx[C_R0]
+    tape = ctx[C_TAPE]
+    ry0 = ctx[C_RY0]
+    rstep = ctx[C_RSTEP]
+    rn = int(ctx[C_RN])
+    sphi = -ctx[C_R23]
+    r22 = ctx[C_R22]
     for k in range(MAX_POINTS):
         cand_s[k] = np.nan
         cand_g[k] = np.nan
+        cand_h[k] = np.nan
 
     # Wheel nodes whose locus falls on the rail table: Py ~ cy + r22 (tape + s) + sphi r0.
     stride = max(1, int(round(scan_step / wstep)))
     y_lo = ry0
     y_hi = ry0 + (rn - 1) * rstep
-    margin = 0.004 + abs(spsi) * r0 * 3.0
+    margin = 0.004 + abs(ctx[C_TPSI]) * r0 * 3.0
     s_lo = (y_lo - cy - sphi * r0) / r22 - tape - margin
     s_hi = (y_hi - cy - sphi * r0) / r22 - tape + margin
     k_lo = max(0, int((s_lo - ws0) / wstep))
     k_hi = min(wn - 1, int((s_hi - ws0) / wstep) + 1)
 
     n_found = 0
-    worst = 0  # index of the shallowest stored candidate (replaced when a deeper one appears)
     g_prev2 = 1.0e9
     g_prev1 = 1.0e9
     k_prev1 = -1
@@ -269,25 +319,18 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
         kk = k if k <= k_hi else k_hi
         s = ws0 + kk * wstep
         g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
-            s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2], r0, tape, cy, cz, r21, r22, r23, r31, r32,
-            r33, tpsi, rtab, ry0, rstep, rn,
-        )  # fmt: skip
-        if not ok:
-            g = 1.0e9
-        if k > k_hi:
-            g = 1.0e9  # sentinel after the last node closes a minimum at the edge
+            s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2], rtab, ctx
+        )
+        if not ok or k > k_hi:
+            g = 1.0e9  # off the rail, or the sentinel that closes a minimum at the edge
         if k_prev1 >= 0 and g_prev1 < 1.0e8 and g_prev1 <= g_prev2 and g_prev1 < g:
             # local minimum at k_prev1, bracketed by its neighbours
             sa = ws0 + (k_prev2 if k_prev2 >= 0 else k_prev1) * wstep
             sb = ws0 + min(kk, k_hi) * wstep
-            sm = ws0 + k_prev1 * wstep
-            if sb <= sm:
-                sb = sm
-            s_ref = _refine_minimum(sa, sb, sm, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21, r22,
-                                    r23, r31, r32, r33, tpsi, rtab, ry0, rstep, rn)  # fmt: skip
-            g_ref, dg_ref, ok_ref = _slope_at(s_ref, wtab, ws0, wstep, wn, r0, tape, cy, cz, r21,
-                                              r22, r23, r31, r32, r33, tpsi, rtab, ry0, rstep,
-                                              rn)  # fmt: skip
+            if sb <= sa:
+                sb = sa + wstep
+            s_ref = _refine_minimum(sa, sb, wtab, rtab, ctx)
+            g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
             if ok_ref:
                 duplicate = False
                 for j in range(n_found):
@@ -298,7 +341,7 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
                         cand_s[n_found] = s_ref
                         cand_g[n_found] = g_ref
                         n_found += 1
-                    else:
+                    else:  # keep the deepest MAX_POINTS minima
                         worst = 0
                         for j in range(1, MAX_POINTS):
                             if cand_g[j] > cand_g[worst]:
@@ -322,7 +365,66 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             cand_s[j - 1] = ts
             cand_g[j - 1] = tg
             j -= 1
+    # humps between neighbouring minima: the highest scan node between them, refined
+    for i in range(n_found - 1):
+        if cand_g[i] >= 0.0 or cand_g[i + 1] >= 0.0:
+            continue  # only humps between two overlaps matter (candidate_weights)
+        sa = cand_s[i]
+        sb = cand_s[i + 1]
+        best_s = 0.5 * (sa + sb)
+        best_g = _gap_at(best_s, wtab, rtab, ctx)[0]
+        kk = int((sa - ws0) / wstep) + 1
+        step_k = max(1, stride // 2)
+        while ws0 + kk * wstep < sb:
+            sk = ws0 + kk * wstep
+            gk = _gap_at(sk, wtab, rtab, ctx)[0]
+            if gk > best_g:
+                best_g = gk
+                best_s = sk
+            kk += step_k
+        h = step_k * wstep
+        lo = max(sa, best_s - h)
+        hi = min(sb, best_s + h)
+        s_max = _golden(lo, hi, wtab, rtab, ctx, -1.0, 24)
+        cand_h[i] = max(best_g, _gap_at(s_max, wtab, rtab, ctx)[0])
     return n_found
+
+
+@numba.njit(inline="always", **_JIT)
+def _smoothstep(x):
+    if x <= 0.0:
+        return 0.0
+    if x >= 1.0:
+        return 1.0
+    return x * x * (3.0 - 2.0 * x)
+
+
+@numba.njit(**_JIT)
+def candidate_weights(n, cand_g, cand_h, weights):
+    """Weights of neighbouring minima that share one overlap region (see ``wheel_contact``).
+
+    Two penetrating minima ``a, b`` with the hump ``H`` between them: if the hump rises above
+    zero (``H >= 0``) their overlap regions are separate and both count fully. If the hump is
+    below zero they are one connected overlap, and the shallower minimum would count the same
+    contact twice: its weight falls with the smoothstep of ``(H - g)/(-g)`` and vanishes when the
+    hump sinks to its depth (the two minima merge). Which one is the shallower is itself blended
+    over a depth band of 10 % of the deeper penetration, so that the normal force stays
+    continuous when minima appear, merge, separate or change order inside one overlap region.
+    """
+    for k in range(n):
+        weights[k] = 1.0
+    for i in range(n - 1):
+        ga = cand_g[i]
+        gb = cand_g[i + 1]
+        if ga >= 0.0 or gb >= 0.0:
+            continue
+        hump = cand_h[i]
+        tau = 0.1 * (-min(ga, gb))
+        theta_a = _smoothstep(0.5 + (ga - gb) / (2.0 * tau))  # 1: a is the shallower one
+        sa = _smoothstep((hump - ga) / (-ga))
+        sb = _smoothstep((hump - gb) / (-gb))
+        weights[i] *= 1.0 - theta_a * (1.0 - sa)
+        weights[i + 1] *= 1.0 - (1.0 - theta_a) * (1.0 - sb)
 
 
 @numba.njit(**_JIT)
@@ -366,12 +468,16 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     lrvy = m * rail_vy
     cand_s = np.empty(MAX_POINTS)
     cand_g = np.empty(MAX_POINTS)
+    cand_h = np.empty(MAX_POINTS)
+    weights = np.empty(MAX_POINTS)
     n_cand = find_contact_candidates(
-        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g
+        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g, cand_h
     )
+    candidate_weights(n_cand, cand_g, cand_h, weights)
     for k in range(MAX_POINTS):
         for f in range(N_POINT_FIELDS):
             points[side, k, f] = 0.0
+    ctx = _make_ctx(winfo, rinfo, lcy, lcz, lphi, lpsi)
     ws0 = winfo[WI_S0]
     wstep = winfo[WI_STEP]
     wn = int(winfo[WI_N])
@@ -380,19 +486,17 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     ry0 = rinfo[RI_Y0]
     rstep = rinfo[RI_STEP]
     rn = int(rinfo[RI_N])
-    cphi = math.cos(lphi)
-    sphi = math.sin(lphi)
+    tpsi = ctx[C_TPSI]
     cpsi = math.cos(lpsi)
     spsi = math.sin(lpsi)
-    tpsi = spsi / cpsi
     r11 = cpsi
     r12 = -spsi
-    r21 = cphi * spsi
-    r22 = cphi * cpsi
-    r23 = -sphi
-    r31 = sphi * spsi
-    r32 = sphi * cpsi
-    r33 = cphi
+    r21 = ctx[C_R21]
+    r22 = ctx[C_R22]
+    r23 = ctx[C_R23]
+    r31 = ctx[C_R31]
+    r32 = ctx[C_R32]
+    r33 = ctx[C_R33]
     e_star = params[P_ESTAR]
     shear = params[P_SHEAR]
     speed = params[P_SPEED]
@@ -400,10 +504,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     for k in range(n_cand):
         s = cand_s[k]
         F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
-        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(
-            s, F, F1, F2, r0, tape, lcy, lcz, r21, r22, r23, r31, r32, r33, tpsi, rtab, ry0,
-            rstep, rn,
-        )  # fmt: skip
+        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
         r = r0 + F
         u = -F1 * tpsi
         w = math.sqrt(1.0 - u * u)
@@ -418,11 +519,13 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         ny = -zr1 * inv
         nz = inv
         delta = -g * inv
-        # principal curvatures, convex positive
+        # principal curvatures, convex positive; the lateral ones from the profiles' curvature
+        # averaged over the contact width (tables' column 3), so that Hertz's stiffness does not
+        # jump where a profile's curvature does (arc to arc, arc to line)
         q = 1.0 + F1 * F1
         kwx = 1.0 / (r * math.sqrt(q))
-        kwy = -F2 / (q * math.sqrt(q))
-        kry = -zr2 * inv * inv * inv
+        kwy = -_linear(wtab, 3, ws0, wstep, wn, s) / (q * math.sqrt(q))
+        kry = -_linear(rtab, 3, ry0, rstep, rn, Py) * inv * inv * inv
         # velocity of the wheel's material point at the contact, relative to the rail
         vrx = vx + wy * relz - lwz * rely
         vry = lvy + lwz * relx - lwx * relz - lrvy
@@ -444,6 +547,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
                 normal = elastic + params[P_DAMP] * delta_dot
             else:
                 normal = elastic * (1.0 + params[P_DAMP] * delta_dot)
+            normal *= weights[k]
             if normal < 0.0:
                 normal = 0.0
             a = alpha_a * sd
@@ -451,7 +555,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
             # creepages in the left-type contact frame: t_x = e_x, t_y = n x t_x = (0, nz, -ny)
             xi = vrx / speed
             eta = (vry * nz - vrz * ny) / speed
-            spin = (lwx * 0.0 + wy * ny + lwz * nz) / speed
+            spin = (wy * ny + lwz * nz) / speed
             if normal > 0.0 and params[P_TANGENTIAL] != 0.0:
                 c11, c22, c23 = kalker_coefficients_nb(ktab, a / b)
                 fx, fy = creep_forces_nb(
@@ -503,6 +607,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         pt[PF_NX] = 0.0
         pt[PF_NY] = m * ny
         pt[PF_NZ] = nz
+        pt[PF_WEIGHT] = weights[k]
     return n_loaded
 
 
