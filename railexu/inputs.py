@@ -75,20 +75,28 @@ def parse_yaml(text: str, source: str = "<string>") -> tuple[Any, dict[KeyPath, 
     constructor = yaml.SafeLoader("")
 
     def build(n: yaml.Node, path: KeyPath) -> Any:
-        lines[path] = n.start_mark.line + 1
+        lines.setdefault(path, n.start_mark.line + 1)
         if isinstance(n, yaml.MappingNode):
-            out: dict = {}
-            for key_node, value_node in n.value:
+            explicit = set()
+            for key_node, _ in n.value:
+                if key_node.tag == "tag:yaml.org,2002:merge":
+                    continue
                 key = constructor.construct_object(key_node, deep=True)
-                if key in out:
+                if key in explicit:
                     raise InputError(
                         "duplicate key",
                         source=source,
                         line=key_node.start_mark.line + 1,
                         key=_dotted((*path, key)),
                     )
-                out[key] = build(value_node, (*path, key))
+                explicit.add(key)
+            # resolve YAML merge keys (<<: *anchor): merged entries first, explicit ones win
+            constructor.flatten_mapping(n)
+            out: dict = {}
+            for key_node, value_node in n.value:
+                key = constructor.construct_object(key_node, deep=True)
                 lines[(*path, key)] = key_node.start_mark.line + 1
+                out[key] = build(value_node, (*path, key))
             return out
         if isinstance(n, yaml.SequenceNode):
             return [build(v, (*path, i)) for i, v in enumerate(n.value)]

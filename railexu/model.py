@@ -30,8 +30,8 @@ from .contact.evaluation import WheelsetContactModel, rail_arrays, wheel_arrays
 from .contact.hertz import hertz_table
 from .contact.kalker import kalker_table_for_poisson
 from .contact.placement import WheelsetGeometry, symmetric_wheelset
-from .contact.quasistatic import press_wheelset
-from .forces import BS_NREAL, generalized_forces
+from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
+from .forces import BS_NREAL, generalized_forces, jacobian
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle
@@ -126,6 +126,7 @@ class VehicleModel:
 
         # --- wheelsets pressed onto the rails at the initial lateral offset
         self.initial_wheelsets = []
+        self.initial_spin_rates: list[float] = []
         for ws, geom, loads in zip(
             vehicle.wheelsets, self.geometries, self.statics.wheel_loads_N, strict=True
         ):
@@ -135,6 +136,9 @@ class VehicleModel:
             except RuntimeError as exc:
                 raise ModelError(f"wheelset {ws.name}: {exc}") from exc
             self.initial_wheelsets.append(st)
+            self.initial_spin_rates.append(
+                free_rolling_spin_rate(cm, st.lateral_m, st.vertical_m, st.roll_rad, 0.0)
+            )
 
         # --- the Exudyn system
         self.SC = exu.SystemContainer()
@@ -212,12 +216,13 @@ class VehicleModel:
             self.rotation[b.name] = np.eye(3)
             self.node[b.name] = res["nodeNumber"]
             self.body[b.name] = res["bodyNumber"]
-        for ws, st in zip(veh.wheelsets, self.initial_wheelsets, strict=True):
+        for ws, st, spin_rate in zip(
+            veh.wheelsets, self.initial_wheelsets, self.initial_spin_rates, strict=True
+        ):
             c = np.array([x_start + ws.position_x_m, st.lateral_m, st.vertical_m])
             rot = RotationMatrixX(st.roll_rad - 0.5 * math.pi)
-            roll, yaw, spin = ws.inertia_kg_m2
             res = mbs.CreateRigidBody(
-                inertia=RigidBodyInertia(ws.mass_kg, np.diag([roll, yaw, spin])),
+                inertia=RigidBodyInertia(ws.mass_kg, np.diag(ws.inertia_kg_m2)),
                 nodeType=exu.NodeType.RotationRxyz,
                 referencePosition=list(c),
                 referenceRotationMatrix=rot,
@@ -226,7 +231,8 @@ class VehicleModel:
                 returnDict=True,
             )
             n = res["nodeNumber"]
-            mbs.SetNodeParameter(n, "initialVelocities", [V, 0, 0, 0, 0, V / ws.nominal_radius_m])
+            # free rolling: the spin at which the wheelset carries no longitudinal creep force
+            mbs.SetNodeParameter(n, "initialVelocities", [V, 0, 0, 0, 0, spin_rate])
             self.centre[ws.name] = c
             self.rotation[ws.name] = np.asarray(rot)
             self.node[ws.name] = n
@@ -349,12 +355,22 @@ class VehicleModel:
             generalized_forces(np.array(q), np.array(q_t), *args, out, points, ws_force)
             return out
 
+        jac = np.zeros((n_coords, n_coords))
+        jac_points = np.zeros_like(points)
+        jac_force = np.zeros_like(ws_force)
+
+        def contact_jacobian(mbs_, t, item, q, q_t, f_q, f_v):
+            jacobian(np.array(q), np.array(q_t), *args, f_q, f_v, jac, jac_points, jac_force)
+            return jac
+
         self._user_function = contact_forces
+        self._jacobian_function = contact_jacobian
         mbs.AddObject(
             ObjectGenericODE2(
                 nodeNumbers=ode_nodes,
                 massMatrix=np.zeros((n_coords, n_coords)),
                 forceUserFunction=contact_forces,
+                jacobianUserFunction=contact_jacobian,
             )
         )
 

@@ -139,7 +139,10 @@ def _wheelset_labels(ts: TimeSeries, summary: dict | None) -> dict[int, str]:
     indices = ts.wheelset_indices()
     names = [w.get("name") for w in (summary or {}).get("wheelsets", [])]
     if len(names) == len(indices) and all(names):
-        return {i: f"ws{i} ({n})" for i, n in zip(indices, names, strict=True)}
+        return {
+            i: f"ws{i}" if n == f"ws{i}" else f"ws{i} ({n})"
+            for i, n in zip(indices, names, strict=True)
+        }
     return {i: f"wheelset {i}" for i in indices}
 
 
@@ -149,7 +152,41 @@ def _finish_axes(ax, xlabel: str, ylabel: str, title: str, legend: bool = True) 
     ax.set_title(title)
     ax.grid(True, alpha=0.4)
     if legend and ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize="small", loc="best")
+        # a fixed place: "best" searches every data point, slow on long runs
+        ax.legend(fontsize="small", loc="upper right")
+
+
+def _stacked_figure(rows: int) -> Figure:
+    """A figure for ``rows`` stacked subplots with fixed margins (in inches)."""
+    height = 1.2 + 2.4 * rows
+    fig = Figure(figsize=(10, height))
+    fig.subplots_adjust(
+        left=0.08, right=0.98, bottom=0.55 / height, top=1.0 - 0.75 / height, hspace=0.55
+    )
+    return fig
+
+
+def _envelope(x: np.ndarray, y: np.ndarray, buckets: int = 1000) -> tuple[np.ndarray, np.ndarray]:
+    """Thin a long series for plotting, keeping each bucket's minimum and maximum in order, so
+    that peaks (flange impacts) survive while drawing time and SVG size stay bounded."""
+    n = len(y)
+    if n <= 2 * buckets:
+        return x, y
+    size = n // buckets
+    m = size * buckets
+    block = np.where(np.isfinite(y[:m]), y[:m], np.nan).reshape(buckets, size)
+    valid = np.isfinite(block).any(axis=1)
+    filled_lo = np.where(np.isfinite(block), block, np.inf)
+    filled_hi = np.where(np.isfinite(block), block, -np.inf)
+    i_min = np.argmin(filled_lo, axis=1)
+    i_max = np.argmax(filled_hi, axis=1)
+    first = np.minimum(i_min, i_max)
+    second = np.maximum(i_min, i_max)
+    base = np.arange(buckets) * size
+    idx = np.column_stack([base + first, base + second]).ravel()
+    keep = np.repeat(valid, 2)
+    idx = np.concatenate([idx[keep], np.arange(m, n)])
+    return x[idx], y[idx]
 
 
 def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") -> dict[str, Figure]:
@@ -182,12 +219,19 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
     figs: dict[str, Figure] = {}
 
     # 1. lateral displacement
-    fig = Figure(figsize=(10, 5), layout="constrained")
+    # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
+    fig = Figure(figsize=(10, 5))
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.92)
     ax = fig.subplots()
     for i in indices:
-        ax.plot(x, ts[f"ws{i}_lateral_m"] * 1e3, lw=1.2, label=labels[i])
+        ax.plot(*_envelope(x, ts[f"ws{i}_lateral_m"] * 1e3), lw=1.2, label=labels[i])
     for body in ts.body_names():
-        ax.plot(x, ts[f"{body}_lateral_m"] * 1e3, "--", lw=1.0, label=body.replace("_", " "))
+        ax.plot(
+            *_envelope(x, ts[f"{body}_lateral_m"] * 1e3),
+            "--",
+            lw=1.0,
+            label=body.replace("_", " "),
+        )
     hunting = (summary or {}).get("hunting") or {}
     extra = ""
     if hunting.get("wavelength_m"):
@@ -208,7 +252,7 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
 
     # 2. lateral force with flange contact
     rows = max(1, len(indices))
-    fig = Figure(figsize=(10, 1.2 + 2.4 * rows), layout="constrained")
+    fig = _stacked_figure(rows)
     axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     for ax, i in zip(axes, indices, strict=False):
         for side in SIDES:
@@ -216,7 +260,7 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
             if f"{name}_Y_N" not in ts:
                 continue
             c = side_colour[side]
-            ax.plot(x, ts[f"{name}_Y_N"] * 1e-3, color=c, lw=1.0, label=f"{side} wheel Y")
+            ax.plot(*_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0, label=f"{side} wheel Y")
             angle_col = f"{name}_max_angle_rad"
             if angle_col in ts:
                 flange = ts[angle_col] > _FLANGE_ANGLE_PLOT_RAD
@@ -238,7 +282,7 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
     figs["lateral_force"] = fig
 
     # 3. Y/Q, flanging wheel positive
-    fig = Figure(figsize=(10, 1.2 + 2.4 * rows), layout="constrained")
+    fig = _stacked_figure(rows)
     axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     q_cols = [ts[f"ws{i}_{s}_Q_N"] for i in indices for s in SIDES if f"ws{i}_{s}_Q_N" in ts]
     mean_q = float(np.nanmean(np.concatenate(q_cols))) if q_cols and len(ts) else 0.0
@@ -249,11 +293,10 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
                 continue
             c = side_colour[side]
             yq = y_over_q(ts, i, side, MIN_LOAD_FRACTION * max(mean_q, 0.0))
-            ax.plot(x, yq, color=c, lw=0.7, alpha=0.45, label=f"{side} wheel")
+            ax.plot(*_envelope(x, yq), color=c, lw=0.7, alpha=0.45, label=f"{side} wheel")
             if len(ts) > 1 and x[-1] - x[0] >= SAFETY_WINDOW_M:
                 ax.plot(
-                    x,
-                    sliding_mean(x, yq, SAFETY_WINDOW_M),
+                    *_envelope(x, sliding_mean(x, yq, SAFETY_WINDOW_M)),
                     color=c,
                     lw=1.6,
                     label=f"{side} wheel, {SAFETY_WINDOW_M:g} m mean",

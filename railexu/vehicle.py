@@ -217,8 +217,7 @@ def vehicle_from_dict(
     for body_name, _ in top.items("bodies", required=False):
         sec = top.child("bodies", body_name, BODY_KEYS)
         inertia = sec.vector("inertia", "kg m^2", components=("roll", "pitch", "yaw"))
-        if min(inertia) <= 0.0:
-            sec.fail("inertias must be > 0 kg m^2", key="inertia")
+        _check_inertia(sec, inertia)
         bodies.append(
             Body(
                 name=str(body_name),
@@ -233,8 +232,7 @@ def vehicle_from_dict(
     for ws_name, _ in top.items("wheelsets"):
         sec = top.child("wheelsets", ws_name, WHEELSET_KEYS)
         inertia = sec.vector("inertia", "kg m^2", components=("roll", "yaw", "spin"))
-        if min(inertia) <= 0.0:
-            sec.fail("inertias must be > 0 kg m^2", key="inertia")
+        _check_inertia(sec, inertia)
         profile = sec.string("wheel_profile")
         resolved = _resolve_profile(profile, base_dir)
         try:
@@ -354,6 +352,20 @@ def vehicle_from_dict(
         source=source,
         raw=data,
     )
+
+
+def _check_inertia(sec: Section, inertia: tuple[float, ...]) -> None:
+    """Principal moments of inertia of a rigid body are positive and satisfy the triangle
+    inequality (each at most the sum of the other two)."""
+    if min(inertia) <= 0.0:
+        sec.fail("inertias must be > 0 kg m^2", key="inertia")
+    a, b, c = inertia
+    if a > b + c or b > a + c or c > a + b:
+        sec.fail(
+            f"principal inertias {a:g}, {b:g}, {c:g} kg m^2 violate the triangle inequality "
+            "(each must be at most the sum of the other two for a real body)",
+            key="inertia",
+        )
 
 
 def _mirrored(name: str, position, mirror: bool):

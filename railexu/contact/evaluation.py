@@ -52,8 +52,13 @@ class ContactParameters:
             ``"kalker_linear"`` or ``"fastsim"``.
         polach_2005: ``(k_a, k_s, A, B)`` of Polach 2005 (B in s/m); dry rail by default
             (Polach 2005, Table 2).
-        damping_model: ``"linear"`` (seed eq. 2, ``N = K d^1.5 + D d_dot``) or ``"hunt_crossley"``.
-        damping: D [N s/m] for ``linear``, chi [s/m] for ``hunt_crossley``.
+        damping_model: ``"hunt_crossley"`` (default): the seed's eq. (2) with the hysteresis
+            damping ``D = chi K delta^1.5``, i.e. ``N = K d^1.5 (1 + chi d_dot)``, which starts
+            from zero at first touch and dissipates the energy of the impact; or ``"linear"``,
+            ``N = K d^1.5 + D d_dot`` with a constant D, which jumps to ``D d_dot`` at first
+            touch (a discontinuity Newton's method dislikes).
+        damping: chi [s/m] for ``hunt_crossley`` (default 3 s/m: about 10 % of critical damping
+            for a wheel of ~2 t on its Hertz contact at 100 kN), D [N s/m] for ``linear``.
         scan_step_m: step of the coarse scan for contact points along the wheel profile [m].
         curvature_smoothing_m: width (standard deviation of a Gaussian) over which the profiles'
             lateral curvature is averaged for Hertz's ellipse [m]. A contact patch is several mm
@@ -70,9 +75,9 @@ class ContactParameters:
     friction: float = 0.3
     creep_model: str = "polach"
     polach_2005: tuple[float, float, float, float] = (1.0, 0.4, 0.4, 0.6)
-    damping_model: str = "linear"
-    damping: float = 1.0e5
-    scan_step_m: float = 5.0e-4
+    damping_model: str = "hunt_crossley"
+    damping: float = 3.0
+    scan_step_m: float = 1.0e-3
     curvature_smoothing_m: float = 5.0e-4
     tangential: bool = True
 

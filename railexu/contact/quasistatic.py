@@ -199,3 +199,36 @@ def rolling_radius_difference(
             radii.append(pair.nominal_radius_m + float(pair.wheel.height(s[k])))
         out[i] = radii[0] - radii[1]
     return out
+
+
+def free_rolling_spin_rate(
+    model: WheelsetContactModel,
+    lateral_m: float,
+    vertical_m: float,
+    roll_rad: float,
+    yaw_rad: float = 0.0,
+) -> float:
+    """Spin rate [rad/s] at which a wheelset at this pose rolls freely: no net longitudinal
+    creep force (the axle is not driven or braked).
+
+    A centred wheelset rolls on its actual contact radius, which differs from the nominal
+    radius r0 by the height of the contact point on the profile; spinning at ``V / r0`` instead
+    would load both wheels with a longitudinal creep force in the same direction.
+    """
+    speed = model.speed_m_per_s
+    r0 = model.geometry.left.nominal_radius_m
+    axle = np.array(
+        [-np.sin(yaw_rad), np.cos(roll_rad) * np.cos(yaw_rad), np.sin(roll_rad) * np.cos(yaw_rad)]
+    )
+
+    def fx(omega: float) -> float:
+        res = model.evaluate(
+            lateral_m, vertical_m, roll_rad, yaw_rad, angular_velocity_rad_per_s=tuple(omega * axle)
+        )
+        return float(res.force_N[0])
+
+    lo, hi = 0.97 * speed / r0, 1.03 * speed / r0
+    f_lo, f_hi = fx(lo), fx(hi)
+    if f_lo * f_hi > 0.0:
+        return speed / r0
+    return float(brentq(fx, lo, hi, xtol=1e-12, rtol=1e-14))

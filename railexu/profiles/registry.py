@@ -10,7 +10,7 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
-from .builtin import rail_60e1, s1002
+from .builtin import cone_wheel, flat_rail, rail_60e1, round_rail, s1002
 from .core import Profile, ProfileError
 from .readers import read_simpack_profile, read_xy_profile
 
@@ -61,9 +61,39 @@ BUILTIN_WHEELS = tuple(_WHEELS)
 BUILTIN_RAILS = tuple(_RAILS)
 
 
+#: Parametric test shapes, ``name:value``: ``cone:0.05`` (wheel, cone slope), ``round:0.3``
+#: (rail, head radius in m), ``flat`` (rail).
+PARAMETRIC_WHEELS = ("cone:<conicity>",)
+PARAMETRIC_RAILS = ("round:<radius_m>", "flat")
+
+
+def _parametric(text: str, kind: str) -> Profile | None:
+    name, sep, value = text.strip().lower().partition(":")
+    try:
+        if kind == "wheel" and name == "cone" and sep:
+            return cone_wheel(_number(value))
+        if kind == "rail" and name == "round" and sep:
+            return round_rail(_number(value), width_m=min(0.072, 1.9 * _number(value)))
+        if kind == "rail" and name == "flat" and not sep:
+            return flat_rail()
+    except ValueError as exc:
+        raise ProfileError(f"{kind} profile {text!r}: {exc}") from exc
+    return None
+
+
+def _number(text: str) -> float:
+    if "/" in text:
+        num, den = text.split("/", 1)
+        return float(num) / float(den)
+    return float(text)
+
+
 def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
     table = _WHEELS if kind == "wheel" else _RAILS
     if isinstance(name_or_path, str):
+        shape = _parametric(name_or_path, kind)
+        if shape is not None:
+            return shape
         key = name_or_path.strip().lower()
         for name, builder in table.items():
             if name.lower() == key:
@@ -91,10 +121,11 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
             proper = [next(n for n in names if n.lower() == c) for c in close]
             suggestion = " Did you mean " + " or ".join(repr(p) for p in proper) + "?"
         ext = ".prw" if kind == "wheel" else ".prr"
+        shapes = PARAMETRIC_WHEELS if kind == "wheel" else PARAMETRIC_RAILS
         raise ProfileError(
             f"unknown {kind} profile {text!r}.{suggestion} Built-in {kind} profiles: "
-            f"{', '.join(names)}; or give a file path ({ext} SIMPACK, anything else two-column "
-            "text 'lateral height' in mm)."
+            f"{', '.join(names)}, test shapes {', '.join(shapes)}; or give a file path ({ext} "
+            "SIMPACK, anything else two-column text 'lateral height' in mm)."
         )
     if not path.is_file():
         raise ProfileError(f"{kind} profile file {text!r} does not exist")
@@ -108,14 +139,15 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
 
 
 def wheel_profile(name_or_path: str | os.PathLike) -> Profile:
-    """A wheel profile by built-in name (case-insensitive: ``"S1002"``, ``"MBench_S1002"``) or
-    by path (``.prw``: SIMPACK; anything else: two-column text in mm, see
+    """A wheel profile by built-in name (case-insensitive: ``"S1002"``, ``"MBench_S1002"``, the
+    test cone ``"cone:0.05"``) or by path (``.prw``: SIMPACK; anything else: two-column text in mm, see
     :func:`read_xy_profile`)."""
     return _lookup(name_or_path, "wheel")
 
 
 def rail_profile(name_or_path: str | os.PathLike) -> Profile:
     """A rail profile by built-in name (case-insensitive: ``"UIC60"``, ``"60E1"`` - the analytic
-    upright head - and ``"MBench_UIC60"``, canted 1:40) or by path (``.prr``: SIMPACK;
+    upright head - and ``"MBench_UIC60"``, canted 1:40; test shapes ``"round:0.3"`` (circular
+    head of 0.3 m radius) and ``"flat"``) or by path (``.prr``: SIMPACK;
     anything else: two-column text in mm, upright)."""
     return _lookup(name_or_path, "rail")

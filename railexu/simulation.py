@@ -1,0 +1,451 @@
+"""Run a vehicle on a track: solver settings, progress, status, outputs.
+
+:func:`run` is the public function behind ``railexu run``: it builds the Exudyn model
+(:mod:`railexu.model`), integrates it with Exudyn's implicit generalized-alpha solver at constant
+forward speed, records a time series, watches for derailment and divergence, and returns a
+:class:`RunResult` whose time series and summary :func:`write_run` saves (also for a run that
+stopped early: the results up to that point are kept).
+
+Step size: the default, 2 ms, was checked against a 0.25 ms reference on the seed's scenario
+(see ``docs/validation.md`` and ``tests/test_dynamics.py``); generalized-alpha with spectral
+radius 0.7 damps the stiff wheel-rail contact modes, and modified Newton with a relative
+tolerance of 1e-4 re-uses one Jacobian for many steps (Rxyz nodes, ``docs/dev/exudyn-api.md``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .contact import kernel as K
+from .forces import generalized_forces
+from .model import ModelError, VehicleModel
+from .results import TimeSeries, summarize, write_summary
+from .track import Track, ideal_straight_track
+from .vehicle import Vehicle
+
+
+class RunSettingsError(ValueError):
+    """Invalid run settings."""
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """Settings of one run (SI units).
+
+    Attributes:
+        speed_m_per_s: constant forward speed V.
+        distance_m: distance to run.
+        initial_lateral_m: lateral offset of the whole vehicle at the start (the seed: 2 mm).
+        time_step_s: integration step (default 2 ms, see the module docstring).
+        output_interval_s: interval of the recorded time series (default: 5 ms or the step).
+        solver: ``"generalized_alpha"`` (default) or ``"trapezoidal"``.
+        spectral_radius: numerical damping of generalized-alpha (1 = none).
+        newton_relative_tolerance: Exudyn's relative Newton tolerance.
+        derailment_lift_fraction: a wheel that rises by this fraction of its flange height
+            above its starting height has climbed its rail: the run stops as ``derailed``.
+        derailment_lateral_m: a wheelset further than this from the track centre has left the
+            rails: the run stops as ``derailed``.
+    """
+
+    speed_m_per_s: float = 10.0
+    distance_m: float = 150.0
+    initial_lateral_m: float = 0.002
+    time_step_s: float = 0.002
+    output_interval_s: float | None = None
+    solver: str = "generalized_alpha"
+    spectral_radius: float = 0.7
+    newton_relative_tolerance: float = 1.0e-3
+    derailment_lift_fraction: float = 0.75
+    derailment_lateral_m: float = 0.040
+
+    def __post_init__(self) -> None:
+        checks = [
+            (self.speed_m_per_s > 0.0, "speed must be > 0 m/s"),
+            (self.speed_m_per_s <= 150.0, "speed must be <= 150 m/s (is it in km/h?)"),
+            (self.distance_m > 0.0, "distance must be > 0 m"),
+            (abs(self.initial_lateral_m) < 0.02, "initial lateral offset must be below 20 mm"),
+            (1e-5 <= self.time_step_s <= 0.01, "time step must be within 0.01 .. 10 ms"),
+            (0.0 < self.spectral_radius <= 1.0, "spectral radius must be in (0, 1]"),
+            (1e-10 <= self.newton_relative_tolerance <= 1e-2, "Newton tolerance out of range"),
+            (0.0 < self.derailment_lift_fraction <= 1.0, "lift fraction must be in (0, 1]"),
+            (self.solver in ("generalized_alpha", "trapezoidal"), "solver must be "
+             "'generalized_alpha' or 'trapezoidal'"),
+        ]  # fmt: skip
+        if self.output_interval_s is not None:
+            checks.append((self.output_interval_s >= self.time_step_s, "output interval < step"))
+        for ok, message in checks:
+            if not ok:
+                raise RunSettingsError(f"run settings: {message}")
+
+    @property
+    def duration_s(self) -> float:
+        return self.distance_m / self.speed_m_per_s
+
+    @property
+    def output_every(self) -> int:
+        interval = self.output_interval_s or max(self.time_step_s, 0.005)
+        return max(1, int(round(interval / self.time_step_s)))
+
+
+@dataclass
+class RunResult:
+    """Outcome of :func:`run`: the time series up to the end (or the stop), summary, model."""
+
+    timeseries: TimeSeries
+    summary: dict
+    status: dict
+    settings: RunSettings
+    vehicle: Vehicle
+    track: Track
+    timings_s: dict = field(default_factory=dict)
+    model: VehicleModel | None = field(default=None, repr=False)
+
+
+ProgressCallback = Callable[[float, float, float, float], None]
+
+
+def print_progress(stream=sys.stderr) -> ProgressCallback:
+    """A progress callback printing distance, speed and time left on one updating line."""
+    state = {"last": 0.0}
+
+    def report(distance: float, total: float, speed: float, eta_s: float) -> None:
+        now = time.perf_counter()
+        if now - state["last"] < 0.5 and distance < total:
+            return
+        state["last"] = now
+        eta = f"{eta_s:5.1f} s left" if math.isfinite(eta_s) else "  ... s left"
+        end = "\n" if distance >= total else ""
+        stream.write(
+            f"\r  {distance:8.1f} / {total:.1f} m   {speed:6.2f} m/s ({speed * 3.6:5.1f} km/h)"
+            f"   {eta}   {end}"
+        )
+        stream.flush()
+
+    return report
+
+
+def _wheelset_order(vehicle: Vehicle) -> list[int]:
+    """Indices of the wheelsets from the front (largest x) to the rear."""
+    return sorted(range(len(vehicle.wheelsets)), key=lambda i: -vehicle.wheelsets[i].position_x_m)
+
+
+class _Recorder:
+    """Records the time series of a run into a preallocated array, vectorised over wheelsets,
+    and checks for derailment."""
+
+    def __init__(
+        self,
+        model: VehicleModel,
+        vehicle: Vehicle,
+        settings: RunSettings,
+        order: list[int],
+        n_out: int,
+        flange_height: list[float],
+    ) -> None:
+        self.model = model
+        self.settings = settings
+        self.speed = settings.speed_m_per_s
+        self.order = np.asarray(order)
+        names = [vehicle.wheelsets[i].name for i in order]
+        self.ws_names = names
+        self.body_names = [b.name for b in vehicle.bodies]
+        columns = ["time_s", "distance_m"]
+        for i in range(1, len(names) + 1):
+            columns += [f"ws{i}_{k}" for k in ("lateral_m", "yaw_rad", "roll_rad", "vertical_m")]
+            for side in ("left", "right"):
+                columns += [
+                    f"ws{i}_{side}_{k}" for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")
+                ]
+        columns += [f"{name}_lateral_m" for name in self.body_names]
+        self.columns = columns
+        self.data = np.zeros((n_out, len(columns)))
+        col = {c: j for j, c in enumerate(columns)}
+        self.c_ws = np.array(
+            [[col[f"ws{i}_{k}"] for k in ("lateral_m", "yaw_rad", "roll_rad", "vertical_m")]
+             for i in range(1, len(names) + 1)]
+        )  # fmt: skip
+        self.c_wheel = np.array(
+            [[[col[f"ws{i}_{side}_{k}"] for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")]
+              for side in ("left", "right")] for i in range(1, len(names) + 1)]
+        )  # fmt: skip
+        self.c_body = np.array([col[f"{n}_lateral_m"] for n in self.body_names], dtype=int)
+        ltg = model.ltg
+        self.i_ws = np.array([ltg[n] for n in names])  # (n_ws, 6) global coordinates
+        self.ref = np.array([model.centre[n] for n in names])
+        self.theta0 = np.array(
+            [math.atan2(model.rotation[n][2, 1], model.rotation[n][1, 1]) for n in names]
+        )
+        self.i_body = np.array([ltg[n][1] for n in self.body_names], dtype=int)
+        self.ref_body = np.array([model.centre[n][1] for n in self.body_names])
+        st = [model.initial_wheelsets[i] for i in order]
+        self.z0 = np.array([s.vertical_m for s in st])
+        self.sin_roll0 = np.sin([s.roll_rad for s in st])
+        self.e = np.array([model.geometries[i].left.tape_circle_lateral_m for i in order])
+        self.lift_limit = settings.derailment_lift_fraction * np.array(
+            [flange_height[i] for i in order]
+        )
+        self.args = model.kernel_args()
+        self.out = np.zeros_like(model._out)
+        self.points = np.zeros_like(model.points)
+        self.ws_force = np.zeros_like(model.ws_force)
+        self.n = 0
+        self.last_time = -math.inf
+
+    def record(self, t: float, q: np.ndarray, qt: np.ndarray):
+        """Store the state at time ``t``; returns a status tuple when the run must stop."""
+        k = self.n
+        if k >= self.data.shape[0]:
+            return None
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qt))):
+            return ("diverged", t, "the state became NaN or infinite")
+        obj = self.model.object_ltg
+        generalized_forces(q[obj], qt[obj], *self.args, self.out, self.points, self.ws_force)
+        row = self.data[k]
+        row[0] = t
+        row[1] = self.speed * t
+        y = self.ref[:, 1] + q[self.i_ws[:, 1]]
+        z = self.ref[:, 2] + q[self.i_ws[:, 2]]
+        phi = self.theta0 + q[self.i_ws[:, 3]] + 0.5 * math.pi
+        psi = -q[self.i_ws[:, 4]]
+        row[self.c_ws[:, 0]] = y
+        row[self.c_ws[:, 1]] = psi
+        row[self.c_ws[:, 2]] = phi
+        row[self.c_ws[:, 3]] = z
+        pts = self.points[self.order]
+        loaded = pts[:, :, :, K.PF_N] > 0.0
+        row[self.c_wheel[:, :, 0]] = pts[:, :, :, K.PF_FTY].sum(axis=2)
+        row[self.c_wheel[:, :, 1]] = pts[:, :, :, K.PF_FTZ].sum(axis=2)
+        row[self.c_wheel[:, :, 2]] = loaded.sum(axis=2)
+        angle = np.where(loaded, pts[:, :, :, K.PF_ANGLE], -np.inf).max(axis=2)
+        row[self.c_wheel[:, :, 3]] = np.where(np.isfinite(angle), angle, 0.0)
+        if self.c_body.size:
+            row[self.c_body] = self.ref_body + q[self.i_body]
+        self.n = k + 1
+        self.last_time = t
+        # derailment: a wheel climbing its rail, or a wheelset off the track
+        droll = self.e * (np.sin(phi) - self.sin_roll0)
+        rise = np.stack([(z - self.z0) + droll, (z - self.z0) - droll], axis=1)
+        climbed = rise.max(axis=1) > self.lift_limit
+        if np.any(climbed):
+            w = int(np.argmax(climbed))
+            side = "left" if rise[w, 0] > rise[w, 1] else "right"
+            return (
+                "derailed",
+                t,
+                f"wheelset {self.ws_names[w]} ({w + 1}), {side} wheel climbed its rail: lift "
+                f"{rise[w].max() * 1e3:.1f} mm at lateral {y[w] * 1e3:.1f} mm",
+            )
+        off = np.abs(y) > self.settings.derailment_lateral_m
+        if np.any(off):
+            w = int(np.argmax(off))
+            return (
+                "derailed",
+                t,
+                f"wheelset {self.ws_names[w]} ({w + 1}) left the track: lateral "
+                f"{y[w] * 1e3:.1f} mm",
+            )
+        return None
+
+    def timeseries(self) -> TimeSeries:
+        return TimeSeries({c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)})
+
+
+def run(    vehicle: Vehicle,
+    track: Track | None = None,
+    settings: RunSettings | None = None,
+    progress: ProgressCallback | None = None,
+) -> RunResult:
+    """Simulate ``vehicle`` running on ``track`` (ideal straight track by default).
+
+    The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
+    leaves the track, and ``diverged`` when the solver fails or the state becomes invalid; the
+    time series up to that point is returned either way.
+    """
+    import exudyn as exu
+
+    settings = settings or RunSettings()
+    track = track or ideal_straight_track()
+    t_start = time.perf_counter()
+    try:
+        model = VehicleModel(
+            vehicle,
+            track,
+            settings.speed_m_per_s,
+            settings.initial_lateral_m,
+            settings.distance_m,
+        )
+    except ModelError:
+        raise
+    t_built = time.perf_counter()
+    mbs = model.mbs
+    V = settings.speed_m_per_s
+    order = _wheelset_order(vehicle)
+    ws_names = [vehicle.wheelsets[i].name for i in order]
+    flange_height = [
+        float(np.max(g.left.wheel.height(np.linspace(g.left.wheel.y_min, g.left.wheel.y_max, 2001))))
+        for g in model.geometries
+    ]
+
+    # simulation settings
+    h = settings.time_step_s
+    n_steps = int(math.ceil(settings.duration_s / h - 1e-9))
+    ss = exu.SimulationSettings()
+    ti = ss.timeIntegration
+    ti.startTime = 0.0
+    ti.endTime = n_steps * h
+    ti.numberOfSteps = n_steps
+    ti.verboseMode = 0
+    ti.generalizedAlpha.spectralRadius = (
+        settings.spectral_radius if settings.solver == "generalized_alpha" else 1.0
+    )
+    ti.newton.useModifiedNewton = True
+    ti.newton.relativeTolerance = settings.newton_relative_tolerance
+    ti.newton.modifiedNewtonContractivity = 0.2
+    ti.minimumStepSize = h / 64.0
+    ss.solution.file.write = False
+    ss.solution.sensors.active = False
+    ss.displayComputationTime = False
+    ss.displayStatistics = False
+
+    # recording
+    every = settings.output_every
+    n_out = n_steps // every + 2
+    recorder = _Recorder(model, vehicle, settings, order, n_out, flange_height)
+    rec = {"status": None, "step": 0}
+    wall0 = [time.perf_counter()]
+
+    def record(t: float) -> bool:
+        """Store one output row at time t; returns False when the run must stop."""
+        status = recorder.record(
+            t, mbs.systemData.GetODE2Coordinates(), mbs.systemData.GetODE2Coordinates_t()
+        )
+        if status is not None:
+            rec["status"] = status
+        if progress is not None:
+            elapsed = time.perf_counter() - wall0[0]
+            frac = t / ti.endTime if ti.endTime > 0 else 1.0
+            eta = elapsed * (1.0 - frac) / frac if frac > 0 else math.inf
+            progress(V * t, settings.distance_m, V, eta)
+        return rec["status"] is None
+
+    def pre_step(mbs_, t: float) -> bool:
+        # t is the end time of the step about to be computed; the state is that of t - h
+        step = rec["step"]
+        rec["step"] = step + 1
+        if step % every == 0:
+            return record(max(t - h, 0.0))
+        return True
+
+    mbs.SetPreStepUserFunction(pre_step)
+    solver_type = (
+        exu.DynamicSolverType.GeneralizedAlpha
+        if settings.solver == "generalized_alpha"
+        else exu.DynamicSolverType.TrapezoidalIndex2
+    )
+    wall0[0] = time.perf_counter()
+    error = None
+    # Exudyn warns about memory allocations in user functions (the contact function returns a
+    # numpy array, which it copies): harmless, suppressed so that the console stays readable
+    exu.SuppressWarnings(True)
+    try:
+        mbs.SolveDynamic(ss, solverType=solver_type)
+    except Exception as exc:  # Exudyn raises its own error types on Newton failure
+        error = exc
+    finally:
+        exu.SuppressWarnings(False)
+    wall_int = time.perf_counter() - wall0[0]
+    t_end = mbs.systemData.GetTime()
+    if rec["status"] is None and error is None:
+        # final state (the pre-step function does not see the last step's end)
+        if recorder.n == 0 or recorder.last_time < t_end - 1e-12:
+            record(t_end)
+    if rec["status"] is not None:
+        state, t_stop, reason = rec["status"]
+    elif error is not None:
+        state, t_stop = "diverged", t_end
+        reason = f"the solver failed at t = {t_end:.3f} s: {str(error).strip().splitlines()[0]}"
+    else:
+        state, t_stop, reason = "completed", t_end, ""
+    status = {
+        "state": state,
+        "distance_m": V * t_stop,
+        "time_s": t_stop,
+        "reason": reason,
+    }
+    ts = recorder.timeseries()
+    stats = {}
+    try:
+        it = mbs.sys["dynamicSolver"].it
+        stats = {
+            "newton_iterations": int(it.newtonStepsCount),
+            "jacobian_updates": int(it.newtonJacobiCount),
+            "steps": int(it.currentStepIndex),
+        }
+    except (KeyError, AttributeError):
+        pass
+    simulated = t_stop
+    rt = simulated / wall_int if wall_int > 0 else math.inf
+    axle_loads = [float(np.sum(model.statics.wheel_loads_N[i])) for i in order]
+    flange_angle = flange_angle_rad(model)
+    summary = summarize(
+        ts,
+        wheelset_names=ws_names,
+        status=status,
+        realtime_factor=rt,
+        speed_m_per_s=V,
+        friction=vehicle.contact.friction,
+        flange_angle_rad=flange_angle,
+        static_axle_loads_N=axle_loads,
+    )
+    t_done = time.perf_counter()
+    timings = {
+        "build_s": t_built - t_start,
+        "integration_s": wall_int,
+        "total_s": t_done - t_start,
+    }
+    summary["timings_s"] = timings
+    summary["solver"] = stats
+    summary["settings"] = asdict(settings)
+    summary["vehicle"] = vehicle.name
+    summary["track"] = track.name
+    if model.axle_load_warnings:
+        summary["warnings"] = list(model.axle_load_warnings)
+    return RunResult(ts, summary, status, settings, vehicle, track, timings, model)
+
+
+def flange_angle_rad(model: VehicleModel) -> float:
+    """Flange angle of the (first) wheel profile [rad]: the largest slope of the flank between
+    the flange tip (the highest point) and the tape circle (S1002: 70 deg). The flange back
+    beyond the tip is not part of it."""
+    wheel = model.geometries[0].left.wheel
+    s = np.linspace(wheel.y_min, 0.0, 8001)
+    tip = s[int(np.argmax(wheel.height(s)))]
+    flank = s[s >= tip]
+    return float(np.max(np.arctan(np.abs(wheel.slope(flank)))))
+
+
+def write_run(result: RunResult, out_dir: str | Path, plots: bool = True) -> list[Path]:
+    """Write ``timeseries.csv``, ``summary.json`` and the plots of a run into ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    path = out / "timeseries.csv"
+    result.timeseries.to_csv(path)
+    written.append(path)
+    path = out / "summary.json"
+    write_summary(result.summary, path)
+    written.append(path)
+    if plots:
+        from .plots import run_figures, save_figure
+
+        title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
+        for name, fig in run_figures(result.timeseries, result.summary, title).items():
+            written.extend(save_figure(fig, out / name))
+    return written
