@@ -232,9 +232,14 @@ def format_summary(summary: dict) -> str:
         lines.append(f"max |Y|: {summary['max_abs_lateral_force_N'] / 1e3:.2f} kN")
     yq = summary.get("max_Y_over_Q") or {}
     if yq.get("value") is not None:
+        mean = yq.get("value_2m")
+        mean_text = f"2 m mean {mean:.3f}, " if mean is not None else ""
+        lines.append(f"max Y/Q: {yq['value']:.3f} ({mean_text}Nadal limit {yq['nadal_limit']:.2f})")
+    sy = summary.get("max_sum_Y_N") or {}
+    if sy.get("value") is not None:
         lines.append(
-            f"max Y/Q: {yq['value']:.3f} (2 m mean {yq.get('value_2m', float('nan')):.3f}, "
-            f"Nadal limit {yq['nadal_limit']:.2f})"
+            f"max sum Y (2 m mean): {sy['value'] / 1e3:.2f} kN (EN 14363 limit "
+            f"{sy['limit_N'] / 1e3:.1f} kN)"
         )
     return "\n".join(lines)
 

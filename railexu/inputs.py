@@ -194,8 +194,7 @@ class Section:
             for key in data:
                 if key not in allowed:
                     self.fail(
-                        f"unknown key.{_suggest(key, allowed)} Allowed here: "
-                        f"{', '.join(allowed)}",
+                        f"unknown key.{_suggest(key, allowed)} Allowed here: {', '.join(allowed)}",
                         key=key,
                     )
 
@@ -242,7 +241,9 @@ class Section:
 
     def child(self, key: str, name: str, allowed: Sequence[str] | None = None) -> Section:
         """Entry ``name`` of the named mapping ``key`` as a :class:`Section`."""
-        return Section(self.data[key][name], self.source, self.lines, (*self.path, key, name), allowed)
+        return Section(
+            self.data[key][name], self.source, self.lines, (*self.path, key, name), allowed
+        )
 
     def quantity(
         self,

@@ -275,9 +275,7 @@ class VehicleModel:
                 )
             elif isinstance(el, TorsionSpring):
                 if a in wheelset_names or b in wheelset_names:
-                    raise ModelError(
-                        f"torsion spring {el.name}: cannot act on a spinning wheelset"
-                    )
+                    raise ModelError(f"torsion spring {el.name}: cannot act on a spinning wheelset")
                 ma = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[a], localPosition=la))
                 mb = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[b], localPosition=lb))
                 axis = "xyz".index(el.axis)
@@ -305,7 +303,9 @@ class VehicleModel:
         # external loads
         for load in veh.loads:
             local, _ = local_point(load.body, load.position_m)
-            m = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[load.body], localPosition=local))
+            m = mbs.AddMarker(
+                MarkerBodyPosition(bodyNumber=self.body[load.body], localPosition=local)
+            )
             mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=list(load.force_N)))
 
         # contact (and bump stop) generalized forces
@@ -337,11 +337,14 @@ class VehicleModel:
         self.points = np.zeros((n_ws, 2, K.MAX_POINTS, K.N_POINT_FIELDS))
         self.ws_force = np.zeros((n_ws, 6))
 
-        # irregularities, sampled along the whole run
-        end = x_start + max(w.position_x_m for w in veh.wheelsets) + self.distance_hint + 20.0
-        self.irregularities = self.track.irregularities(end)
+        # irregularities, sampled along the whole run; their distance 0 is where the leading
+        # wheelset starts, so that every wheelset starts on undisturbed rails (the static state
+        # it was pressed into) and meets the faded-in irregularities as it runs
+        x_lead = x_start + max(w.position_x_m for w in veh.wheelsets)
+        self.irregularity_origin_m = x_lead
+        self.irregularities = self.track.irregularities(self.distance_hint + 20.0)
         sampled = self.irregularities.sampled(0.05)
-        self.irr_start = sampled.start_m
+        self.irr_start = x_lead + sampled.start_m
         self.irr_step = sampled.step_m
         self.irr_values = np.ascontiguousarray(sampled.values)
         self.irr_slopes = np.ascontiguousarray(sampled.slopes)

@@ -260,7 +260,9 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
             if f"{name}_Y_N" not in ts:
                 continue
             c = side_colour[side]
-            ax.plot(*_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0, label=f"{side} wheel Y")
+            ax.plot(
+                *_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0, label=f"{side} wheel Y"
+            )
             angle_col = f"{name}_max_angle_rad"
             if angle_col in ts:
                 flange = ts[angle_col] > _FLANGE_ANGLE_PLOT_RAD

@@ -183,7 +183,15 @@ class _Recorder:
             [math.atan2(model.rotation[n][2, 1], model.rotation[n][1, 1]) for n in names]
         )
         self.i_body = np.array([ltg[n][1] for n in self.body_names], dtype=int)
+        self.i_body_x = np.array([ltg[n][0] for n in self.body_names], dtype=int)
         self.ref_body = np.array([model.centre[n][1] for n in self.body_names])
+        self.ref_body_x = np.array([model.centre[n][0] for n in self.body_names])
+        # lateral positions are recorded relative to the track centre line (the mean lateral
+        # offset of the two rails, i.e. the alignment irregularity)
+        values = model.irr_values
+        self.irr_x = model.irr_start + model.irr_step * np.arange(values.shape[0])
+        self.irr_centre = 0.5 * (values[:, 0] + values[:, 2])
+        self.has_alignment = bool(np.any(self.irr_centre != 0.0))
         st = [model.initial_wheelsets[i] for i in order]
         self.z0 = np.array([s.vertical_m for s in st])
         self.sin_roll0 = np.sin([s.roll_rad for s in st])
@@ -210,7 +218,11 @@ class _Recorder:
         row = self.data[k]
         row[0] = t
         row[1] = self.speed * t
-        y = self.ref[:, 1] + q[self.i_ws[:, 1]]
+        y = (
+            self.ref[:, 1]
+            + q[self.i_ws[:, 1]]
+            - self._track_centre(self.ref[:, 0] + q[self.i_ws[:, 0]])
+        )
         z = self.ref[:, 2] + q[self.i_ws[:, 2]]
         phi = self.theta0 + q[self.i_ws[:, 3]] + 0.5 * math.pi
         psi = -q[self.i_ws[:, 4]]
@@ -226,7 +238,8 @@ class _Recorder:
         angle = np.where(loaded, pts[:, :, :, K.PF_ANGLE], -np.inf).max(axis=2)
         row[self.c_wheel[:, :, 3]] = np.where(np.isfinite(angle), angle, 0.0)
         if self.c_body.size:
-            row[self.c_body] = self.ref_body + q[self.i_body]
+            x_body = self.ref_body_x + q[self.i_body_x]
+            row[self.c_body] = self.ref_body + q[self.i_body] - self._track_centre(x_body)
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track
@@ -239,8 +252,9 @@ class _Recorder:
             return (
                 "derailed",
                 t,
-                f"wheelset {self.ws_names[w]} ({w + 1}), {side} wheel climbed its rail: lift "
-                f"{rise[w].max() * 1e3:.1f} mm at lateral {y[w] * 1e3:.1f} mm",
+                f"wheelset {self.ws_names[w]} ({w + 1}), {side} wheel rose "
+                f"{rise[w].max() * 1e3:.1f} mm above its rail (flange climb or wheel lift) at "
+                f"lateral {y[w] * 1e3:.1f} mm",
             )
         off = np.abs(y) > self.settings.derailment_lateral_m
         if np.any(off):
@@ -253,11 +267,17 @@ class _Recorder:
             )
         return None
 
+    def _track_centre(self, x: np.ndarray) -> np.ndarray | float:
+        if not self.has_alignment:
+            return 0.0
+        return np.interp(x, self.irr_x, self.irr_centre, left=0.0, right=0.0)
+
     def timeseries(self) -> TimeSeries:
         return TimeSeries({c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)})
 
 
-def run(    vehicle: Vehicle,
+def run(
+    vehicle: Vehicle,
     track: Track | None = None,
     settings: RunSettings | None = None,
     progress: ProgressCallback | None = None,
@@ -289,7 +309,9 @@ def run(    vehicle: Vehicle,
     order = _wheelset_order(vehicle)
     ws_names = [vehicle.wheelsets[i].name for i in order]
     flange_height = [
-        float(np.max(g.left.wheel.height(np.linspace(g.left.wheel.y_min, g.left.wheel.y_max, 2001))))
+        float(
+            np.max(g.left.wheel.height(np.linspace(g.left.wheel.y_min, g.left.wheel.y_max, 2001)))
+        )
         for g in model.geometries
     ]
 
@@ -311,8 +333,8 @@ def run(    vehicle: Vehicle,
     ti.minimumStepSize = h / 64.0
     ss.solution.file.write = False
     ss.solution.sensors.active = False
-    ss.displayComputationTime = False
-    ss.displayStatistics = False
+    ss.show.computationTime = False
+    ss.show.statistics = False
 
     # recording
     every = settings.output_every
@@ -352,20 +374,24 @@ def run(    vehicle: Vehicle,
     wall0[0] = time.perf_counter()
     error = None
     # Exudyn warns about memory allocations in user functions (the contact function returns a
-    # numpy array, which it copies): harmless, suppressed so that the console stays readable
-    exu.SuppressWarnings(True)
+    # numpy array, which it copies): harmless; its console output is off during the solution
+    # so that the progress line stays readable (solver failures still raise exceptions)
+    exu.config.printToConsole = False
     try:
         mbs.SolveDynamic(ss, solverType=solver_type)
     except Exception as exc:  # Exudyn raises its own error types on Newton failure
         error = exc
     finally:
-        exu.SuppressWarnings(False)
+        exu.config.printToConsole = True
     wall_int = time.perf_counter() - wall0[0]
     t_end = mbs.systemData.GetTime()
-    if rec["status"] is None and error is None:
-        # final state (the pre-step function does not see the last step's end)
-        if recorder.n == 0 or recorder.last_time < t_end - 1e-12:
-            record(t_end)
+    # final state (the pre-step function does not see the last step's end)
+    if (
+        rec["status"] is None
+        and error is None
+        and (recorder.n == 0 or recorder.last_time < t_end - 1e-12)
+    ):
+        record(t_end)
     if rec["status"] is not None:
         state, t_stop, reason = rec["status"]
     elif error is not None:

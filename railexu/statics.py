@@ -31,7 +31,7 @@ from .vehicle import SpringDamper, TorsionSpring, Vehicle
 
 CONTACT_STIFFNESS_N_PER_M = 2.0e9
 HOLD_STIFFNESS = 1.0e9
-REGULARISATION = 1.0
+REGULARISATION = 1.0e-3  # N/m or N m/rad: removes mechanisms, carries < 1 mN
 
 
 def _skew(r: np.ndarray) -> np.ndarray:
@@ -101,6 +101,8 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
     for i, m in enumerate(masses):
         F[6 * i + 2] -= m * g
     for load in vehicle.loads:
+        if not load.static:
+            continue  # applied suddenly at the start, not part of the rest state
         p = attachment_point(vehicle, load.body, load.position_m)
         F += point_map(load.body, p).T @ np.asarray(load.force_N)
 
@@ -144,5 +146,5 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
             forces[el.name] = -np.asarray(el.stiffness_N_per_m) * (maps[el.name] @ u)
         elif isinstance(el, TorsionSpring):
             forces[el.name] = -el.stiffness_N_m_per_rad * float(maps[el.name] @ u)
-    total = sum(masses) * g - sum(load.force_N[2] for load in vehicle.loads)
+    total = sum(masses) * g - sum(load.force_N[2] for load in vehicle.loads if load.static)
     return StaticSolution(wheel_loads_N=loads, element_forces=forces, total_weight_N=total)

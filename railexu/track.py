@@ -190,8 +190,9 @@ def track_from_dict(
             irr.fail("wavelength_min must be below wavelength_max", key="wavelength_min")
         try:  # fail early on spectrum/component combinations the spectrum does not have
             synthesize_irregularities(
-                spectrum, 10.0, 0, spec.wavelength_min_m, min(spec.wavelength_max_m, 20.0),
-                n_components=4, components=components,
+                spectrum, 4.0 * spec.fade_length_m + 100.0, 0, spec.wavelength_min_m,
+                spec.wavelength_max_m, n_components=4, components=components,
+                fade_length_m=spec.fade_length_m,
             )  # fmt: skip
         except (IrregularityError, NotImplementedError) as exc:
             irr.fail(str(exc))

@@ -82,8 +82,9 @@ def unit_dimension(unit: str) -> tuple[int, int, int]:
 def to_si(value: object, unit: str) -> float:
     """Convert ``value`` to SI, checking it against the expected ``unit`` (an SI unit string).
 
-    A number is returned unchanged (it is taken to be in the field's SI unit); a string
-    ``"<number> <unit>"`` is converted. ``unit`` is the field's SI unit, e.g. ``"N/m"``.
+    A number is returned unchanged (it is taken to be in the field's SI unit), and so is a
+    string holding only a number (YAML 1.1 reads ``1e9`` without a decimal point as text); a
+    string ``"<number> <unit>"`` is converted. ``unit`` is the field's SI unit, e.g. ``"N/m"``.
 
     Raises:
         UnitError: unknown unit, wrong dimension, or not a number.
@@ -99,6 +100,8 @@ def to_si(value: object, unit: str) -> float:
         raise UnitError(f"expected '<number> <unit>' (e.g. '12 {unit}'), got {value!r}")
     number = float(match.group(1))
     given = match.group(2)
+    if not given:
+        return number  # a bare number in quotes (YAML reads 1e9 as text): SI like any number
     factor, dim = _parse_unit(given)
     expected = unit_dimension(unit)
     if dim != expected:

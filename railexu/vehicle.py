@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .contact.evaluation import ContactParameterError, ContactParameters
-from .inputs import InputError, Section, apply_overrides, load_yaml
+from .inputs import Section, apply_overrides, load_yaml
 from .profiles import ProfileError, wheel_profile
 
 FORMAT_VERSION = 1
@@ -100,13 +100,18 @@ class BumpStop:
 
 @dataclass(frozen=True)
 class Load:
-    """A constant force on a body at a point (vehicle axes)."""
+    """A constant force on a body at a point (vehicle axes).
+
+    A ``static`` load (the default: weights carried, a share of a car body) is part of the
+    static equilibrium the vehicle starts in; a non-static load is applied suddenly at the start
+    of the run (a step: a wind gust, a lateral impact)."""
 
     name: str
     body: str
     position_m: tuple[float, float, float]
     force_N: tuple[float, float, float]
     estimate: str = ""
+    static: bool = True
 
 
 SuspensionElement = SpringDamper | TorsionSpring | BumpStop
@@ -170,7 +175,7 @@ ELEMENT_KEYS = {
     "torsion_spring": (*COMMON_ELEMENT_KEYS, "axis", "stiffness", "damping"),
     "bump_stop": (*COMMON_ELEMENT_KEYS, "direction", "clearance", "stiffness", "damping"),
 }
-LOAD_KEYS = ("body", "position", "force", "mirror_y", "estimate", "notes")
+LOAD_KEYS = ("body", "position", "force", "mirror_y", "static", "estimate", "notes")
 CONTACT_KEYS = (
     "friction",
     "creep_model",
@@ -327,8 +332,9 @@ def vehicle_from_dict(
         mirror = sec.boolean("mirror_y", default=False)
         if mirror and position[1] == 0.0:
             sec.fail("mirror_y needs a lateral position y != 0", key="position")
+        static = sec.boolean("static", default=True)
         for n, p in _mirrored(str(load_name), position, mirror):
-            loads.append(Load(n, body, p, force, est))  # type: ignore[arg-type]
+            loads.append(Load(n, body, p, force, est, static))  # type: ignore[arg-type]
 
     default_speed_body = bodies[0].name if bodies else wheelsets[0].name
     speed_body = top.string("speed_body", default=default_speed_body)
@@ -407,9 +413,7 @@ def _contact_parameters(sec: Section) -> ContactParameters:
         scan_step_m=sec.quantity("scan_step", "m", default=defaults.scan_step_m, positive=True),
     )
     unit = "N s/m" if kwargs["damping_model"] == "linear" else "s/m"
-    kwargs["damping"] = sec.quantity(
-        "normal_damping", unit, default=defaults.damping, minimum=0.0
-    )
+    kwargs["damping"] = sec.quantity("normal_damping", unit, default=defaults.damping, minimum=0.0)
     if sec.has("polach_2005"):
         p = sec.section("polach_2005", ("k_a", "k_s", "A", "B"))
         kwargs["polach_2005"] = (

@@ -140,8 +140,8 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
 
 def wheel_profile(name_or_path: str | os.PathLike) -> Profile:
     """A wheel profile by built-in name (case-insensitive: ``"S1002"``, ``"MBench_S1002"``, the
-    test cone ``"cone:0.05"``) or by path (``.prw``: SIMPACK; anything else: two-column text in mm, see
-    :func:`read_xy_profile`)."""
+    test cone ``"cone:0.05"``) or by path (``.prw``: SIMPACK; anything else: two-column text in
+    mm, see :func:`read_xy_profile`)."""
     return _lookup(name_or_path, "wheel")
 
 

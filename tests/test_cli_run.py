@@ -1,0 +1,103 @@
+"""The ``railexu run`` and ``railexu plot`` commands end to end."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from railexu.cli import main
+from railexu.results import TimeSeries
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_run_writes_timeseries_summary_and_plots(tmp_path, capsys):
+    out = tmp_path / "run"
+    status = main(
+        [
+            "run", str(ROOT / "vehicles" / "eu07_bogie.yaml"), "--track",
+            str(ROOT / "tracks" / "straight.yaml"), "--speed", "10", "--distance", "20",
+            "--initial-lateral", "0.002", "--out", str(out), "--quiet",
+        ]
+    )  # fmt: skip
+    assert status == 0
+    printed = capsys.readouterr().out
+    assert "status: completed at 20.0 m" in printed and "real-time factor" in printed
+    ts = TimeSeries.from_csv(out / "timeseries.csv")
+    for col in [
+        "time_s",
+        "distance_m",
+        "ws1_lateral_m",
+        "ws1_yaw_rad",
+        "ws1_left_Y_N",
+        "ws1_left_Q_N",
+        "ws1_left_n_contacts",
+        "ws2_right_Y_N",
+        "ws2_right_Q_N",
+        "ws2_right_n_contacts",
+        "bogie_1_lateral_m",
+    ]:
+        assert col in ts.columns, col
+    assert ts.distance_m[-1] == 20.0
+    assert ts["ws1_lateral_m"][0] == 0.002
+    summary = json.loads((out / "summary.json").read_text())
+    for key in [
+        "status",
+        "realtime_factor",
+        "wheelsets",
+        "flange_contact",
+        "max_abs_lateral_force_N",
+        "max_Y_over_Q",
+        "max_sum_Y_N",
+        "hunting",
+    ]:
+        assert key in summary, key
+    assert summary["status"]["state"] == "completed"
+    assert summary["realtime_factor"] > 0
+    assert [w["name"] for w in summary["wheelsets"]] == ["ws1", "ws2"]
+    # Nadal's limit for the S1002 flange (70 deg) and mu = 0.3
+    tan70 = np.tan(np.radians(70.0))
+    nadal = (tan70 - 0.3) / (1 + 0.3 * tan70)
+    assert abs(summary["max_Y_over_Q"]["nadal_limit"] - nadal) < 1e-3
+    pngs = {p.name for p in out.glob("*.png")}
+    assert pngs == {"lateral_displacement.png", "lateral_force.png", "y_over_q.png"}
+    # redraw from the files
+    for p in out.glob("*.png"):
+        p.unlink()
+    assert main(["plot", str(out)]) == 0
+    assert {p.name for p in out.glob("*.svg")} == {n.replace(".png", ".svg") for n in pngs}
+    assert {p.name for p in out.glob("*.png")} == pngs
+
+
+def test_run_with_set_override(tmp_path, capsys):
+    out = tmp_path / "run"
+    status = main(
+        [
+            "run", str(ROOT / "vehicles" / "wheelset.yaml"), "--distance", "5", "--out",
+            str(out), "--quiet", "--no-plots", "--set", "wheelsets.ws1.mass=4.5 t",
+        ]
+    )  # fmt: skip
+    assert status == 0
+    assert not list(out.glob("*.png"))
+
+
+def test_run_bad_input(tmp_path, capsys):
+    status = main(
+        [
+            "run", str(ROOT / "vehicles" / "eu07.yaml"), "--out", str(tmp_path), "--quiet",
+            "--set", "bodies.car_body.mas=3 t",
+        ]
+    )  # fmt: skip
+    assert status == 2
+    err = capsys.readouterr().err
+    assert "eu07.yaml:" in err and "Did you mean 'mass'" in err
+    assert main(["run", str(ROOT / "vehicles" / "eu07.yaml"), "--speed", "-3", "--out",
+                 str(tmp_path), "--quiet"]) == 2  # fmt: skip
+    assert "speed must be > 0" in capsys.readouterr().err
+
+
+def test_plot_on_a_folder_without_results(tmp_path, capsys):
+    assert main(["plot", str(tmp_path)]) == 2
+    assert "no timeseries.csv" in capsys.readouterr().err
