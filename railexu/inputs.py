@@ -111,8 +111,68 @@ def apply_overrides(data: dict, overrides: Iterable[str], source: str = "--set")
     The value is parsed as YAML (``1.5e6``, ``"52 t"``, ``[0, 1, 2]``, ``polach``). Every key on the
     path must exist, except the last one of a mapping, which may be new (it is then validated
     like any key of the file); list items are addressed by their index.
+
+    A path part containing ``*`` or ``?`` is a pattern (:func:`fnmatch.fnmatchcase`): it stands
+    for every existing key of that mapping (or index of that list) it matches, so
+    ``suspension.primary_ws*.stiffness.x=8e6`` sets the longitudinal stiffness of every element
+    named ``primary_ws...``. A pattern never creates keys; one that matches nothing is an error,
+    and so is a matched entry that lacks the rest of the path.
+
+    Raises:
+        InputError: malformed item, unparsable value, a key or list item that does not exist
+            (with did-you-mean), a pattern that matches nothing, or a path through a value.
     """
     import copy
+    from fnmatch import fnmatchcase
+
+    def is_pattern(part: str) -> bool:
+        return "*" in part or "?" in part
+
+    def assign(node: Any, parts: list[str], done: list[str], value: Any) -> None:
+        part = parts[len(done)]
+        last = len(done) == len(parts) - 1
+        here = ".".join([*done, part])
+        if not isinstance(node, dict | list):
+            raise InputError(f"{'.'.join(done)} is a value, not a section", source=source, key=here)
+        if is_pattern(part):
+            names = list(node) if isinstance(node, dict) else list(range(len(node)))
+            matches = [k for k in names if fnmatchcase(str(k), part)]
+            if not matches:
+                what = "key" if isinstance(node, dict) else "list index"
+                known = ", ".join(str(k) for k in names) or "nothing"
+                raise InputError(
+                    f"pattern {part!r} matches no {what} here (there are: {known})",
+                    source=source,
+                    key=here,
+                )
+            for k in matches:
+                if last:
+                    node[k] = copy.deepcopy(value)
+                else:
+                    assign(node[k], parts, [*done, str(k)], value)
+            return
+        if isinstance(node, list):
+            try:
+                index = int(part)
+                node[index]  # noqa: B018 - index check
+            except (ValueError, IndexError) as exc:
+                raise InputError(
+                    f"no list item {part!r} (the list has {len(node)} items)",
+                    source=source,
+                    key=here,
+                ) from exc
+            if last:
+                node[index] = value
+            else:
+                assign(node[index], parts, [*done, part], value)
+        elif last:
+            node[part] = value
+        elif part in node:
+            assign(node[part], parts, [*done, part], value)
+        else:
+            raise InputError(
+                f"no key {part!r} here.{_suggest(part, node)}", source=source, key=here
+            )
 
     out = copy.deepcopy(data)
     for item in overrides:
@@ -126,37 +186,7 @@ def apply_overrides(data: dict, overrides: Iterable[str], source: str = "--set")
             value = yaml.safe_load(text)
         except yaml.YAMLError as exc:
             raise InputError(f"cannot parse value {text!r}", source=source, key=key) from exc
-        node: Any = out
-        for depth, part in enumerate(parts):
-            last = depth == len(parts) - 1
-            here = ".".join(parts[: depth + 1])
-            if isinstance(node, list):
-                try:
-                    index = int(part)
-                    node[index]  # noqa: B018 - index check
-                except (ValueError, IndexError) as exc:
-                    raise InputError(
-                        f"no list item {part!r} (the list has {len(node)} items)",
-                        source=source,
-                        key=here,
-                    ) from exc
-                if last:
-                    node[index] = value
-                else:
-                    node = node[index]
-            elif isinstance(node, dict):
-                if last:
-                    node[part] = value
-                elif part in node:
-                    node = node[part]
-                else:
-                    raise InputError(
-                        f"no key {part!r} here.{_suggest(part, node)}", source=source, key=here
-                    )
-            else:
-                raise InputError(
-                    f"{'.'.join(parts[:depth])} is a value, not a section", source=source, key=here
-                )
+        assign(out, parts, [], value)
     return out
 
 

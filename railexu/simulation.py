@@ -52,6 +52,8 @@ class RunSettings:
             above its starting height has climbed its rail: the run stops as ``derailed``.
         derailment_lateral_m: a wheelset further than this from the track centre has left the
             rails: the run stops as ``derailed``.
+        deceleration_m_per_s2: a constant deceleration from ``speed_m_per_s`` (the ramp method
+            of the critical speed); the speed must stay positive over ``distance_m``.
     """
 
     speed_m_per_s: float = 10.0
@@ -64,6 +66,7 @@ class RunSettings:
     newton_relative_tolerance: float = 1.0e-3
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
+    deceleration_m_per_s2: float = 0.0
 
     def __post_init__(self) -> None:
         checks = [
@@ -78,6 +81,10 @@ class RunSettings:
             (self.solver in ("generalized_alpha", "trapezoidal"), "solver must be "
              "'generalized_alpha' or 'trapezoidal'"),
         ]  # fmt: skip
+        if self.deceleration_m_per_s2 != 0.0:
+            v_end_sq = self.speed_m_per_s**2 - 2.0 * self.deceleration_m_per_s2 * self.distance_m
+            checks.append((self.deceleration_m_per_s2 > 0.0, "deceleration must be >= 0"))
+            checks.append((v_end_sq > 0.0, "the deceleration stops the vehicle before the end"))
         if self.output_interval_s is not None:
             checks.append((self.output_interval_s >= self.time_step_s, "output interval < step"))
         for ok, message in checks:
@@ -86,7 +93,19 @@ class RunSettings:
 
     @property
     def duration_s(self) -> float:
-        return self.distance_m / self.speed_m_per_s
+        a = self.deceleration_m_per_s2
+        if a == 0.0:
+            return self.distance_m / self.speed_m_per_s
+        v_end = math.sqrt(self.speed_m_per_s**2 - 2.0 * a * self.distance_m)
+        return (self.speed_m_per_s - v_end) / a
+
+    def speed_at(self, t: float) -> float:
+        """Forward speed at time ``t`` [m/s]."""
+        return self.speed_m_per_s - self.deceleration_m_per_s2 * t
+
+    def distance_at(self, t: float) -> float:
+        """Distance run at time ``t`` [m]."""
+        return self.speed_m_per_s * t - 0.5 * self.deceleration_m_per_s2 * t * t
 
     @property
     def output_every(self) -> int:
@@ -164,6 +183,8 @@ class _Recorder:
                     f"ws{i}_{side}_{k}" for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")
                 ]
         columns += [f"{name}_lateral_m" for name in self.body_names]
+        if settings.deceleration_m_per_s2 != 0.0:
+            columns.append("speed_m_per_s")
         self.columns = columns
         self.data = np.zeros((n_out, len(columns)))
         col = {c: j for j, c in enumerate(columns)}
@@ -176,6 +197,7 @@ class _Recorder:
               for side in ("left", "right")] for i in range(1, len(names) + 1)]
         )  # fmt: skip
         self.c_body = np.array([col[f"{n}_lateral_m"] for n in self.body_names], dtype=int)
+        self.c_speed = col.get("speed_m_per_s")
         ltg = model.ltg
         self.i_ws = np.array([ltg[n] for n in names])  # (n_ws, 6) global coordinates
         self.ref = np.array([model.centre[n] for n in names])
@@ -217,7 +239,9 @@ class _Recorder:
         generalized_forces(q[obj], qt[obj], *self.args, self.out, self.points, self.ws_force)
         row = self.data[k]
         row[0] = t
-        row[1] = self.speed * t
+        row[1] = self.settings.distance_at(t)
+        if self.c_speed is not None:
+            row[self.c_speed] = self.settings.speed_at(t)
         y = (
             self.ref[:, 1]
             + q[self.i_ws[:, 1]]
@@ -340,7 +364,7 @@ def run(
     every = settings.output_every
     n_out = n_steps // every + 2
     recorder = _Recorder(model, vehicle, settings, order, n_out, flange_height)
-    rec = {"status": None, "step": 0}
+    rec = {"status": None}
     wall0 = [time.perf_counter()]
 
     def record(t: float) -> bool:
@@ -354,15 +378,26 @@ def run(
             elapsed = time.perf_counter() - wall0[0]
             frac = t / ti.endTime if ti.endTime > 0 else 1.0
             eta = elapsed * (1.0 - frac) / frac if frac > 0 else math.inf
-            progress(V * t, settings.distance_m, V, eta)
+            progress(settings.distance_at(t), settings.distance_m, settings.speed_at(t), eta)
         return rec["status"] is None
 
+    interval = every * h
+    rec["next"] = 0.0
+
+    decelerating = settings.deceleration_m_per_s2 != 0.0
+    params = model.params
+
     def pre_step(mbs_, t: float) -> bool:
-        # t is the end time of the step about to be computed; the state is that of t - h
-        step = rec["step"]
-        rec["step"] = step + 1
-        if step % every == 0:
-            return record(max(t - h, 0.0))
+        # t is the end time of the step about to be computed; the current state is at the
+        # solver's present time (steps may have been cut by the adaptive step control)
+        now = mbs.systemData.GetTime()
+        if decelerating:
+            v_now = settings.speed_at(t)
+            mbs.SetObjectParameter(model.speed_constraint, "offset", v_now)
+            params[K.P_SPEED] = v_now  # creepages are normalised by the current speed
+        if now >= rec["next"] - 1e-9 * h:
+            rec["next"] = now + interval - 1e-9 * h
+            return record(now)
         return True
 
     mbs.SetPreStepUserFunction(pre_step)
@@ -401,7 +436,7 @@ def run(
         state, t_stop, reason = "completed", t_end, ""
     status = {
         "state": state,
-        "distance_m": V * t_stop,
+        "distance_m": settings.distance_at(t_stop),
         "time_s": t_stop,
         "reason": reason,
     }
@@ -475,3 +510,53 @@ def write_run(result: RunResult, out_dir: str | Path, plots: bool = True) -> lis
         for name, fig in run_figures(result.timeseries, result.summary, title).items():
             written.extend(save_figure(fig, out / name))
     return written
+
+
+RUN_KEYS = (
+    "speed",
+    "distance",
+    "initial_lateral",
+    "time_step",
+    "output_interval",
+    "solver",
+    "spectral_radius",
+    "newton_tolerance",
+)
+
+
+def run_settings_from_dict(
+    data: dict, source: str = "<run settings>", lines: dict | None = None, path: tuple = ()
+) -> RunSettings:
+    """Run settings from a mapping with units, as study files give them::
+
+        {speed: 10 m/s, distance: 150 m, initial_lateral: 2 mm, time_step: 2 ms}
+
+    Keys: ``speed`` [m/s], ``distance`` [m], ``initial_lateral`` [m], ``time_step`` [s],
+    ``output_interval`` [s], ``solver``, ``spectral_radius``, ``newton_tolerance``; missing ones
+    take the defaults of :class:`RunSettings`.
+
+    Raises:
+        InputError: unknown keys, wrong units, invalid values (naming source, line and key).
+    """
+    from .inputs import Section
+
+    sec = Section(data, source, lines, path, RUN_KEYS)
+    d = RunSettings()
+    kwargs = dict(
+        speed_m_per_s=sec.quantity("speed", "m/s", default=d.speed_m_per_s),
+        distance_m=sec.quantity("distance", "m", default=d.distance_m),
+        initial_lateral_m=sec.quantity("initial_lateral", "m", default=d.initial_lateral_m),
+        time_step_s=sec.quantity("time_step", "s", default=d.time_step_s),
+        solver=sec.string("solver", default=d.solver, choices=("generalized_alpha", "trapezoidal")),
+        spectral_radius=sec.quantity("spectral_radius", "1", default=d.spectral_radius),
+        newton_relative_tolerance=sec.quantity(
+            "newton_tolerance", "1", default=d.newton_relative_tolerance
+        ),
+    )
+    if sec.has("output_interval"):
+        kwargs["output_interval_s"] = sec.quantity("output_interval", "s")
+    try:
+        return RunSettings(**kwargs)
+    except RunSettingsError as exc:
+        sec.fail(str(exc))
+        raise  # unreachable

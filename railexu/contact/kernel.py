@@ -172,7 +172,7 @@ def _locus_gap(s, F, F1, F2, rtab, ctx):
     """
     r = ctx[C_R0] + F
     u = -F1 * ctx[C_TPSI]
-    w = math.sqrt(1.0 - u * u)
+    w = math.sqrt(max(1.0 - u * u, 1.0e-12))
     px = r * u
     py = ctx[C_TAPE] + s
     pz = -r * w
@@ -197,7 +197,7 @@ def _scan_gap(s, F, F1, rtab, ctx):
     refined with the full interpolation) and no derivative. Returns 1e9 off the rail."""
     r = ctx[C_R0] + F
     u = -F1 * ctx[C_TPSI]
-    w = math.sqrt(1.0 - u * u)
+    w = math.sqrt(max(1.0 - u * u, 1.0e-12))
     px = r * u
     py = ctx[C_TAPE] + s
     pz = -r * w
@@ -335,6 +335,8 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     k_hi = min(wn - 1, int((s_hi - ws0) / wstep) + 1)
 
     n_found = 0
+    if k_hi <= k_lo or not (r22 > 0.1):
+        return 0  # the wheel is nowhere above its rail (or the wheelset is upside down)
     g_prev2 = 1.0e9
     g_prev1 = 1.0e9
     k_prev1 = -1
@@ -547,7 +549,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
         r = r0 + F
         u = -F1 * tpsi
-        w = math.sqrt(1.0 - u * u)
+        w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
         py = tape + s
         pz = -r * w
