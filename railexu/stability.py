@@ -423,11 +423,14 @@ def bisection_critical_speed(
         return r["stable"]
 
     lo, hi = settings.speed_min_m_per_s, settings.speed_max_m_per_s
-    out = {"critical_speed_m_per_s": None, "bracket_m_per_s": None, "runs": runs,
-           "threshold_m": settings.threshold_m, "initial_lateral_m": settings.initial_lateral_m}  # fmt: skip
-    if not test(hi):
-        pass
-    else:
+    out = {
+        "critical_speed_m_per_s": None,
+        "bracket_m_per_s": None,
+        "runs": runs,
+        "threshold_m": settings.threshold_m,
+        "initial_lateral_m": settings.initial_lateral_m,
+    }
+    if test(hi):
         out["stable_in_range"] = True
         out["note"] = f"stable up to the highest speed tested, {hi:g} m/s"
         return out
