@@ -111,8 +111,6 @@ from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import integrate
-from scipy import signal as sp_signal
 from scipy.interpolate import CubicSpline
 
 __all__ = [
@@ -237,6 +235,8 @@ class TrackSpectrum:
         containing exactly these wavelengths."""
         lo, hi = _band(wavelength_min_m, wavelength_max_m)
         self.require(component)
+        from scipy import integrate  # lazy: keeps `import railexu` fast
+
         value, _ = integrate.quad(
             lambda o: float(self.psd(component, o)), lo, hi, limit=200, epsrel=1e-10
         )
@@ -408,6 +408,8 @@ def _sum_of_cosines(
         m = min(_CZT_BLOCK, n_points - start)
         xb = x0 + start * step
         coeff = amp * np.exp(1j * (omega * xb + phase))
+        from scipy import signal as sp_signal  # lazy: keeps `import railexu` fast
+
         z = sp_signal.czt(coeff, m=m, w=w, a=1.0)
         out[start : start + m] = np.real(np.exp(1j * omega[0] * step * np.arange(m)) * z)
     return out
@@ -985,6 +987,8 @@ def psd_estimate(
     else:
         nperseg = max(2, round(float(segment_length_m) / h))
     nperseg = min(nperseg, x.size)
+    from scipy import signal as sp_signal
+
     f, p = sp_signal.welch(
         x, fs=1.0 / h, window="hann", nperseg=nperseg, detrend="constant", scaling="density"
     )

@@ -388,19 +388,24 @@ def run(
     params = model.params
 
     def pre_step(mbs_, t: float) -> bool:
-        # t is the end time of the step about to be computed; the current state is at the
-        # solver's present time (steps may have been cut by the adaptive step control)
-        now = mbs.systemData.GetTime()
-        if decelerating:
-            v_now = settings.speed_at(t)
-            mbs.SetObjectParameter(model.speed_constraint, "offset", v_now)
-            params[K.P_SPEED] = v_now  # creepages are normalised by the current speed
-        if now >= rec["next"] - 1e-9 * h:
-            rec["next"] = now + interval - 1e-9 * h
-            return record(now)
+        # t is the end time of the step about to be computed: the speed it must reach
+        v_next = settings.speed_at(t)
+        mbs.SetObjectParameter(model.speed_constraint, "offset", v_next)
+        params[K.P_SPEED] = v_next  # creepages are normalised by the current speed
         return True
 
-    mbs.SetPreStepUserFunction(pre_step)
+    def post_step(mbs_, t: float) -> bool:
+        # called with the initial state (t = 0) and after every step, with the state at t
+        if t >= rec["next"] - 0.5 * h:
+            # next output one interval later, on the grid k * interval, so that runs with
+            # different steps record at the same times
+            rec["next"] = (math.floor(t / interval + 0.5) + 1) * interval
+            return record(t)
+        return True
+
+    if decelerating:
+        mbs.SetPreStepUserFunction(pre_step)
+    mbs.SetPostStepUserFunction(post_step)
     solver_type = (
         exu.DynamicSolverType.GeneralizedAlpha
         if settings.solver == "generalized_alpha"
@@ -420,7 +425,7 @@ def run(
         exu.config.printToConsole = True
     wall_int = time.perf_counter() - wall0[0]
     t_end = mbs.systemData.GetTime()
-    # final state (the pre-step function does not see the last step's end)
+    # the final state, when the run's end is not on the output grid
     if (
         rec["status"] is None
         and error is None
