@@ -248,9 +248,13 @@ def _add_plot_parser(sub) -> None:
     p = sub.add_parser(
         "plot",
         help="redraw the plots of a run (or a study) from its files",
-        description="Redraw the plots of a run folder (timeseries.csv, summary.json).",
+        description=(
+            "Redraw the plots of a run folder (timeseries.csv, summary.json) or of a study "
+            "folder (results.csv, study.json: each result against each varied value, maps "
+            "when two vary)."
+        ),
     )
-    p.add_argument("folder", help="output folder of railexu run")
+    p.add_argument("folder", help="output folder of railexu run or railexu study")
     p.set_defaults(func=_cmd_plot)
 
 
@@ -259,8 +263,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
     from .plots import run_figures, save_figure
     from .results import TimeSeries, read_summary
+    from .study import is_study_folder, plot_study
 
     folder = Path(args.folder)
+    if is_study_folder(folder):
+        written = plot_study(folder)
+        print(f"railexu plot: wrote {len(written)} study plots to {folder}")
+        return 0
     ts_path = folder / "timeseries.csv"
     if not ts_path.exists():
         raise CliError(f"{folder}: no timeseries.csv (not an output folder of railexu run)")
@@ -374,6 +383,9 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     _add_contact_parser(sub)
     _add_run_parser(sub)
+    from .study import add_study_parser
+
+    add_study_parser(sub)
     _add_critical_speed_parser(sub)
     _add_plot_parser(sub)
     return parser

@@ -382,7 +382,12 @@ def _labelled(path: str, unit: str) -> str:
     return f"{path} [{unit}]" if unit else path
 
 
-def study_figures(table, study) -> dict[str, Figure]:
+if TYPE_CHECKING:
+    from collections.abc import Iterable, Mapping
+    from typing import Any
+
+
+def study_figures(table: str | Path | Iterable[Mapping[str, str]], study: Any) -> dict[str, Figure]:
     """Figures of a parameter study's results (``railexu study``), in SI units.
 
     - ``"study_vs_<parameter>"``, one per varied parameter: every numeric collected result
@@ -400,7 +405,7 @@ def study_figures(table, study) -> dict[str, Figure]:
     Args:
         table: the path of a ``results.csv``, or its rows (column -> text, as
             :func:`railexu.study.read_results` returns them).
-        study: a :class:`railexu.study.Study` or the content of ``study.json``.
+        study: a :class:`railexu.study.Study` or the content of ``study.json`` (a mapping).
 
     Returns:
         Figures by name (empty if there are no rows or no numeric results).
@@ -491,7 +496,7 @@ def study_figures(table, study) -> dict[str, Figure]:
         height = 1.3 + 2.5 * n
         fig = Figure(figsize=(8.5, height), layout="constrained")
         axes = np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0])
-        for ax, (y, ylabel) in zip(axes, results.values(), strict=True):
+        for ax, (name, (y, ylabel)) in zip(axes, results.items(), strict=True):
             for g, (key, idx) in enumerate(groups.items()):
                 idx = sorted(idx, key=lambda i: x[i])
                 if len(groups) <= _MAX_LEGEND_GROUPS:
@@ -507,7 +512,11 @@ def study_figures(table, study) -> dict[str, Figure]:
             bad = marked & np.isfinite(y)
             if bad.any():
                 ax.plot(x[bad], y[bad], "x", color="k", ms=8, mew=1.5, label="derailed/diverged")
-            ax.set_ylabel(ylabel, fontsize="small")
+            # the result's path as the subplot title, its unit on the axis (long paths do not
+            # fit along a short axis)
+            ax.set_title(ylabel, fontsize="small", loc="left")
+            unit = result_unit(name)
+            ax.set_ylabel("0 / 1" if ylabel.endswith("(1 = true)") else f"[{unit or '-'}]")
             with contextlib.suppress(AttributeError):  # only for the default formatter
                 ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, alpha=0.4)
