@@ -394,6 +394,15 @@ class VehicleModel:
     def _name_of(self, node: int) -> str:
         return next(k for k, v in self.node.items() if v == node)
 
+    def warm_up(self) -> None:
+        """Call the compiled force and Jacobian functions once at the initial state, so that
+        their just-in-time compilation (first run after installation) or loading from numba's
+        cache happens before the integration starts and is not counted in its timing."""
+        q = self.mbs.systemData.GetODE2Coordinates()[self.object_ltg]
+        qt = self.mbs.systemData.GetODE2Coordinates_t()[self.object_ltg]
+        self._user_function(self.mbs, 0.0, 0, list(q), list(qt))
+        self._jacobian_function(self.mbs, 0.0, 0, list(q), list(qt), 1.0, 0.0)
+
     def kernel_args(self) -> tuple:
         """Arguments of :func:`railexu.forces.generalized_forces` after ``q, qt``."""
         return (

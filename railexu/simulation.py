@@ -327,6 +327,7 @@ def run(
         )
     except ModelError:
         raise
+    model.warm_up()
     t_built = time.perf_counter()
     mbs = model.mbs
     V = settings.speed_m_per_s
