@@ -105,6 +105,29 @@ def parse_yaml(text: str, source: str = "<string>") -> tuple[Any, dict[KeyPath, 
     return build(node, ()), lines
 
 
+def load_yaml_with_overrides(
+    path: str | Path, overrides: Iterable[str] = ()
+) -> tuple[Any, dict[KeyPath, int]]:
+    """:func:`load_yaml` followed by :func:`apply_overrides` (``dotted.key=value`` items)."""
+    data, lines = load_yaml(path)
+    overrides = list(overrides)
+    if overrides:
+        data = apply_overrides(data, overrides)
+    return data, lines
+
+
+def resolve_file(name: str, base_dir: Path | None) -> str:
+    """A name that looks like a relative file path (has a suffix or a '/') is taken relative to
+    the folder of the file that names it, if such a file exists there; anything else (a built-in
+    name, an absolute path) is returned unchanged."""
+    p = Path(name)
+    if base_dir is not None and (p.suffix or "/" in name) and not p.is_absolute():
+        candidate = base_dir / p
+        if candidate.exists():
+            return str(candidate)
+    return name
+
+
 def apply_overrides(data: dict, overrides: Iterable[str], source: str = "--set") -> dict:
     """Apply ``dotted.key=value`` overrides to raw input data (a deep copy is returned).
 

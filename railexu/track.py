@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .contact.placement import PlacementError, parse_inclination
-from .inputs import InputError, Section, apply_overrides, load_yaml
+from .inputs import InputError, Section, load_yaml_with_overrides, resolve_file
 from .irregularities import (
     COMPONENTS,
     IrregularityError,
@@ -36,7 +36,6 @@ from .irregularities import (
     synthesize_irregularities,
 )
 from .profiles import ProfileError, rail_profile
-from .vehicle import _resolve_profile
 
 FORMAT_VERSION = 1
 TOP_KEYS = (
@@ -135,10 +134,7 @@ def load_track(path: str | Path, overrides: Iterable[str] = ()) -> Track:
         InputError: any problem, naming the file, the line and the key.
     """
     path = Path(path)
-    data, lines = load_yaml(path)
-    overrides = list(overrides)
-    if overrides:
-        data = apply_overrides(data, overrides)
+    data, lines = load_yaml_with_overrides(path, overrides)
     return track_from_dict(data, source=str(path), lines=lines, base_dir=path.parent)
 
 
@@ -150,7 +146,7 @@ def track_from_dict(
     version = top.integer("format_version")
     if version != FORMAT_VERSION:
         top.fail(f"format_version {version} is not supported (this railexu reads {FORMAT_VERSION})")
-    rail = _resolve_profile(top.string("rail_profile", default="UIC60"), base_dir)
+    rail = resolve_file(top.string("rail_profile", default="UIC60"), base_dir)
     try:
         rail_profile(rail)
     except ProfileError as exc:

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .contact.evaluation import ContactParameterError, ContactParameters
-from .inputs import Section, apply_overrides, load_yaml
+from .inputs import Section, load_yaml_with_overrides, resolve_file
 from .profiles import ProfileError, wheel_profile
 
 FORMAT_VERSION = 1
@@ -195,10 +195,7 @@ def load_vehicle(path: str | Path, overrides: Iterable[str] = ()) -> Vehicle:
         InputError: any problem, with file, line, key and what was expected.
     """
     path = Path(path)
-    data, lines = load_yaml(path)
-    overrides = list(overrides)
-    if overrides:
-        data = apply_overrides(data, overrides)
+    data, lines = load_yaml_with_overrides(path, overrides)
     return vehicle_from_dict(data, source=str(path), lines=lines, base_dir=path.parent)
 
 
@@ -239,7 +236,7 @@ def vehicle_from_dict(
         inertia = sec.vector("inertia", "kg m^2", components=("roll", "yaw", "spin"))
         _check_inertia(sec, inertia)
         profile = sec.string("wheel_profile")
-        resolved = _resolve_profile(profile, base_dir)
+        resolved = resolve_file(profile, base_dir)
         try:
             wheel_profile(resolved)
         except ProfileError as exc:
@@ -386,16 +383,6 @@ def _did_you_mean(name: str, names: list[str]) -> str:
 
     close = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
     return f" Did you mean {close[0]!r}?" if close else f" Known: {', '.join(names)}"
-
-
-def _resolve_profile(name: str, base_dir: Path | None) -> str:
-    """A profile given as a relative file path is relative to the vehicle/track file."""
-    p = Path(name)
-    if base_dir is not None and (p.suffix or "/" in name) and not p.is_absolute():
-        candidate = base_dir / p
-        if candidate.exists():
-            return str(candidate)
-    return name
 
 
 def _contact_parameters(sec: Section) -> ContactParameters:
