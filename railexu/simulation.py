@@ -14,7 +14,9 @@ tolerance of 1e-4 re-uses one Jacobian for many steps (Rxyz nodes, ``docs/dev/ex
 
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
 import sys
 import time
 from collections.abc import Callable
@@ -309,8 +311,8 @@ def run(
     """Simulate ``vehicle`` running on ``track`` (ideal straight track by default).
 
     The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
-    leaves the track, and ``diverged`` when the solver fails or the state becomes invalid; the
-    time series up to that point is returned either way.
+    leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
+    ``interrupted`` on Ctrl-C; the time series up to that point is returned either way.
     """
     import exudyn as exu
 
@@ -397,6 +399,10 @@ def run(
 
     def post_step(mbs_, t: float) -> bool:
         # called with the initial state (t = 0) and after every step, with the state at t
+        if rec["interrupted"]:
+            record(t)
+            rec["status"] = ("interrupted", t, "interrupted by the user (Ctrl-C)")
+            return False
         if t >= rec["next"] - 0.5 * h:
             # next output one interval later, on the grid k * interval, so that runs with
             # different steps record at the same times
@@ -418,12 +424,24 @@ def run(
     # numpy array, which it copies): harmless; its console output is off during the solution
     # so that the progress line stays readable (solver failures still raise exceptions)
     exu.config.printToConsole = False
+    # Ctrl-C ends the run at the next step with the results so far (not possible outside the
+    # main thread, e.g. in a Dask worker thread: then it simply is not caught here)
+    # (a process that ignores SIGINT, like a study's worker, keeps ignoring it)
+    rec["interrupted"] = False
+    previous_handler = None
+    with contextlib.suppress(ValueError):
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+            previous_handler = signal.signal(
+                signal.SIGINT, lambda *_: rec.__setitem__("interrupted", True)
+            )
     try:
         mbs.SolveDynamic(ss, solverType=solver_type)
     except Exception as exc:  # Exudyn raises its own error types on Newton failure
         error = exc
     finally:
         exu.config.printToConsole = True
+        if previous_handler is not None:
+            signal.signal(signal.SIGINT, previous_handler)
     wall_int = time.perf_counter() - wall0[0]
     t_end = mbs.systemData.GetTime()
     # the final state, when the run's end is not on the output grid
