@@ -357,7 +357,7 @@ def run(
     ti.newton.useModifiedNewton = True
     ti.newton.relativeTolerance = settings.newton_relative_tolerance
     ti.newton.modifiedNewtonContractivity = 0.2
-    ti.minimumStepSize = h / 64.0
+    ti.minimumStepSize = h / 1024.0  # impacts on a rigid rail may need a few tiny steps
     ss.solution.file.write = False
     ss.solution.sensors.active = False
     ss.show.computationTime = False

@@ -1,0 +1,10 @@
+"""The exceptions and warnings of parameter studies."""
+
+
+class StudyError(ValueError):
+    """A study cannot run as asked: its output folder holds another study's results, another
+    study is running in it, bad worker settings."""
+
+
+class StudyWarning(UserWarning):
+    """Something in a study's results to look at (a ``collect`` path missing from a result)."""

@@ -1,0 +1,168 @@
+"""One case of a study, as run in a worker process: the picklable task and running it.
+
+``_run_case`` and ``_worker_init`` are pickled by reference (``spawn`` workers, Dask): they must
+stay module-level functions of this module.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import json
+import math
+import os
+import shutil
+import tempfile
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+from .folder import _write_json
+from .spec import RESULT_FILES, Case, Study
+
+#: Test hook: a worker process exits abruptly (as on a crash in native code) before running the
+#: case whose id this environment variable names. Never set it outside the tests.
+_CRASH_ENV = "RAILEXU_STUDY_TEST_CRASH"
+
+
+@dataclass(frozen=True)
+class _Task:
+    """What a worker needs to run one case (plain, picklable data)."""
+
+    case_id: str
+    hash: str
+    analysis: str
+    source: str
+    vehicle: str
+    track: str | None
+    vehicle_overrides: tuple[str, ...]
+    track_overrides: tuple[str, ...]
+    settings: dict
+    values: dict
+    case_dir: str | None  # None: write into a temporary folder and return the files
+    plots: bool
+    in_worker: bool
+
+
+def _make_task(study: Study, case: Case, case_dir: Path | None, in_worker: bool) -> _Task:
+    return _Task(
+        case_id=case.case_id,
+        hash=case.hash,
+        analysis=study.analysis,
+        source=study.source,
+        vehicle=str(study.vehicle),
+        track=None if study.track is None else str(study.track),
+        vehicle_overrides=tuple(study.vehicle_overrides(case)),
+        track_overrides=tuple(study.track_overrides(case)),
+        settings=study.settings_data(case),
+        values=dict(case.values),
+        case_dir=None if case_dir is None else str(case_dir),
+        plots=study.plots,
+        in_worker=in_worker,
+    )
+
+
+def _worker_init() -> None:
+    """Worker processes ignore Ctrl-C: the main process cancels and ends them cleanly."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _error_text(exc: BaseException) -> str:
+    msg = str(exc).strip() or type(exc).__name__
+    if not isinstance(exc, ValueError):
+        msg = f"{type(exc).__name__}: {msg}"
+    return " ".join(msg.split())
+
+
+def _outcome(task: _Task, status: str, error: str = "", run_time_s: float = math.nan) -> dict:
+    return {
+        "case_id": task.case_id,
+        "hash": task.hash,
+        "status": status,
+        "error": error,
+        "run_time_s": run_time_s,
+        "result": None,
+        "files": None,
+    }
+
+
+def _run_case(task: _Task) -> dict:
+    """Run one case and return its outcome: status, error, run time, the content of its result
+    file (for ``collect``) and, when ``task.case_dir`` is None, its files (name -> bytes).
+    Never raises for a failing case: the error is part of the outcome."""
+    t0 = time.perf_counter()
+    if task.in_worker and os.environ.get(_CRASH_ENV) == task.case_id:
+        os._exit(70)  # test hook: a worker dying as on a crash in native code
+    temporary = task.case_dir is None
+    outcome = _outcome(task, "failed")
+    try:
+        if temporary:
+            case_dir = Path(tempfile.mkdtemp(prefix=f"railexu-{task.case_id}-"))
+        else:
+            case_dir = Path(task.case_dir)
+            if case_dir.exists():
+                shutil.rmtree(case_dir)
+            case_dir.mkdir(parents=True)
+    except OSError as exc:
+        outcome["error"] = _error_text(exc)
+        outcome["run_time_s"] = time.perf_counter() - t0
+        return outcome
+    try:
+        _write_json(
+            case_dir / "case.json",
+            {
+                "case_id": task.case_id,
+                "hash": task.hash,
+                "values": task.values,
+                "vehicle": task.vehicle,
+                "vehicle_overrides": list(task.vehicle_overrides),
+                "track": task.track,
+                "track_overrides": list(task.track_overrides),
+                task.analysis: task.settings,
+            },
+        )
+        status, result = _execute(task, case_dir)
+        outcome.update(status=status, result=result)
+    except Exception as exc:  # any failure of a case is recorded, not raised
+        outcome["error"] = _error_text(exc)
+        with contextlib.suppress(OSError):
+            (case_dir / "error.txt").write_text(traceback.format_exc(), encoding="utf-8")
+    outcome["run_time_s"] = time.perf_counter() - t0
+    if temporary:
+        files = {}
+        for p in sorted(case_dir.rglob("*")):
+            if p.is_file():
+                files[p.relative_to(case_dir).as_posix()] = p.read_bytes()
+        outcome["files"] = files
+        shutil.rmtree(case_dir, ignore_errors=True)
+    return outcome
+
+
+def _execute(task: _Task, case_dir: Path) -> tuple[str, dict]:
+    from ..track import ideal_straight_track, load_track
+    from ..vehicle import load_vehicle
+
+    source = f"{task.source} ({task.case_id})"
+    if task.analysis == "run":
+        from ..results import read_summary
+        from ..simulation import run, run_settings_from_dict, write_run
+
+        settings = run_settings_from_dict(task.settings, source, None, ("run",))
+        vehicle = load_vehicle(task.vehicle, task.vehicle_overrides)
+        track = load_track(task.track, task.track_overrides) if task.track else None
+        result = run(vehicle, track or ideal_straight_track(), settings)
+        write_run(result, case_dir, plots=task.plots)
+        return str(result.status["state"]), read_summary(case_dir / RESULT_FILES["run"])
+    stability = importlib.import_module("railexu.stability")
+    settings = stability.critical_speed_settings_from_dict(
+        task.settings, source, None, ("critical_speed",)
+    )
+    vehicle = load_vehicle(task.vehicle, task.vehicle_overrides)
+    track = load_track(task.track, task.track_overrides) if task.track else None
+    result = stability.critical_speed(vehicle, track or ideal_straight_track(), settings)
+    stability.write_critical_speed(result, case_dir, plots=task.plots)
+    path = case_dir / RESULT_FILES["critical_speed"]
+    return "completed", json.loads(path.read_text(encoding="utf-8"))
