@@ -12,8 +12,8 @@ railexu run vehicles/eu07.yaml --speed 45 --distance 600 --out "$out/eu07_45" --
 railexu run vehicles/eu07_bogie.yaml --speed 45 --distance 600 --out "$out/bogie_45" --quiet
 # linear critical speeds
 railexu critical-speed vehicles/eu07.yaml --methods linear --out "$out/cs_eu07" --quiet
-railexu critical-speed vehicles/eu07_bogie.yaml --methods linear,bisection \
-    --speed-min 10 --speed-max 60 --tolerance 1 --out "$out/cs_bogie" --quiet
+railexu critical-speed vehicles/eu07_bogie.yaml --methods linear,bisection,ramp \
+    --speed-min 10 --speed-max 70 --tolerance 1 --out "$out/cs_bogie" --quiet
 # the Manchester contact benchmark
 railexu contact --wheel S1002 --rail UIC60 --inclination 1:40 --gauge 1.435 \
     --flange-back 1.360 --radius 0.46 --lateral 0:0.010:0.0005 --yaw-per-lateral 2.4 \
