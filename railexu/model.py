@@ -34,10 +34,23 @@ from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
 from .forces import BS_NREAL, generalized_forces, jacobian
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
-from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle
+from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset
 
 #: Distance of the rearmost wheelset from the start of the track at t = 0 [m].
 START_MARGIN_M = 1.0
+
+
+def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
+    """The wheelset's wheel profiles placed on the track's rails (gauge, inclination, flange-back
+    distance, nominal rolling radius), with the contact tables of both wheels."""
+    return symmetric_wheelset(
+        wheelset.wheel_profile,
+        track.rail_profile,
+        nominal_radius_m=wheelset.nominal_radius_m,
+        inclination=track.inclination,
+        gauge_m=track.gauge_m,
+        flange_back_distance_m=wheelset.flange_back_distance_m,
+    )
 
 
 class ModelError(ValueError):
@@ -93,14 +106,7 @@ class VehicleModel:
         for ws in vehicle.wheelsets:
             key = (ws.wheel_profile, ws.nominal_radius_m, ws.flange_back_distance_m)
             if key not in cache:
-                cache[key] = symmetric_wheelset(
-                    ws.wheel_profile,
-                    track.rail_profile,
-                    nominal_radius_m=ws.nominal_radius_m,
-                    inclination=track.inclination,
-                    gauge_m=track.gauge_m,
-                    flange_back_distance_m=ws.flange_back_distance_m,
-                )
+                cache[key] = wheelset_geometry(ws, track)
             self.geometries.append(cache[key])
         self._pack_tables()
 

@@ -36,7 +36,7 @@ import numpy as np
 from .contact.conicity import equivalent_conicity
 from .contact.evaluation import ContactParameters, WheelsetContactModel
 from .contact.placement import symmetric_wheelset
-from .model import VehicleModel
+from .model import VehicleModel, wheelset_geometry
 from .simulation import RunSettings, run
 from .track import Track, ideal_straight_track
 from .vehicle import Vehicle
@@ -169,15 +169,7 @@ def critical_speed_settings_from_dict(
 def profile_equivalent_conicity(vehicle: Vehicle, track: Track, amplitude_m: float) -> float:
     """Equivalent conicity of the first wheelset's profiles on the track's rails (EN 15302,
     harmonic linearisation) at ``amplitude_m``."""
-    ws = vehicle.wheelsets[0]
-    geometry = symmetric_wheelset(
-        ws.wheel_profile,
-        track.rail_profile,
-        nominal_radius_m=ws.nominal_radius_m,
-        inclination=track.inclination,
-        gauge_m=track.gauge_m,
-        flange_back_distance_m=ws.flange_back_distance_m,
-    )
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
     model = WheelsetContactModel(geometry, vehicle.contact, 10.0)
     return float(equivalent_conicity(model, [amplitude_m], step_m=1e-4)[0][0])
 
