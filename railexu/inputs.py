@@ -20,23 +20,10 @@ from typing import Any
 
 import yaml
 
+from .errors import InputError
 from .units import UnitError, to_si
 
 KeyPath = tuple[Any, ...]
-
-
-class InputError(ValueError):
-    """Bad input: the message names file, line and key and says what was expected."""
-
-    def __init__(self, message: str, *, source: str = "", line: int | None = None, key: str = ""):
-        where = source
-        if line is not None:
-            where = f"{where}:{line}" if where else f"line {line}"
-        prefix = ": ".join(p for p in (where, key) if p)
-        super().__init__(f"{prefix}: {message}" if prefix else message)
-        self.source = source
-        self.line = line
-        self.key = key
 
 
 def _dotted(path: KeyPath) -> str:

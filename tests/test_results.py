@@ -12,7 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from railexu.plots import run_figures, save_figure
+from railexu.report.figures import save_figure
+from railexu.report.run_figures import run_figures
 from railexu.results import (
     ResultsError,
     TimeSeries,

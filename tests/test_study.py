@@ -17,17 +17,17 @@ import pytest
 import yaml
 
 from railexu import study as S
+from railexu.cli.study import add_parser as add_study_parser
 from railexu.inputs import InputError, apply_overrides, load_yaml
 from railexu.study import (
     StudyError,
     StudyProgress,
     StudyWarning,
-    add_study_parser,
     load_study,
-    plot_study,
     read_results,
     run_study,
 )
+from railexu.study.plots import plot_study
 from railexu.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -668,7 +668,8 @@ def test_plot_study_one_parameter(local_study):
 
 
 def test_study_figures_two_parameters_map_and_scatter(tmp_path):
-    from railexu.plots import result_unit, save_figure, study_figures
+    from railexu.report.figures import save_figure
+    from railexu.report.study_figures import result_unit, study_figures
 
     assert result_unit("hunting.wavelength_m") == "m"
     assert result_unit("linear_m_per_s") == "m/s"

@@ -30,14 +30,12 @@ Files written into the output folder ``DIR``:
 
 from __future__ import annotations
 
-from .cli import add_study_parser
 from .errors import StudyError, StudyWarning
 from .folder import CASES_DIR as CASES_DIR
 from .folder import PLOTS_DIR as PLOTS_DIR
 from .folder import RESULTS_CSV as RESULTS_CSV
 from .folder import STUDY_JSON as STUDY_JSON
 from .folder import is_study_folder
-from .plots import plot_study
 from .runner import StudyProgress, StudyResult, print_study_progress, run_study
 from .runner import StudyProgressCallback as StudyProgressCallback
 from .spec import ANALYSES as ANALYSES
@@ -68,10 +66,8 @@ __all__ = [
     "StudyProgress",
     "StudyResult",
     "StudyWarning",
-    "add_study_parser",
     "is_study_folder",
     "load_study",
-    "plot_study",
     "print_study_progress",
     "read_results",
     "run_study",

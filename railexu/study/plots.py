@@ -19,7 +19,8 @@ def plot_study(out_dir: str | Path) -> list[Path]:
     Raises:
         StudyError: the folder holds no study output.
     """
-    from ..plots import save_figure, study_figures
+    from ..report.figures import save_figure
+    from ..report.study_figures import study_figures
 
     out = Path(out_dir)
     if not is_study_folder(out):

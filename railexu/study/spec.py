@@ -4,7 +4,6 @@ its varied :class:`Parameter` objects and its :class:`Case` objects."""
 from __future__ import annotations
 
 import hashlib
-import importlib
 import itertools
 import json
 import math
@@ -362,7 +361,7 @@ def load_study(path: str | Path) -> Study:
     if analysis == "run":
         if base.has("critical_speed"):
             base.fail("only used with 'analysis: critical_speed'", key="critical_speed")
-        from ..simulation import run_settings_from_dict
+        from ..run_settings import run_settings_from_dict
 
         run_data = _mapping(base, "run")
         run_settings_from_dict(run_data, source, lines, ("base", "run"))
@@ -516,13 +515,9 @@ def _apply_base_set(
 
 
 def _stability_module(top: Section):
-    try:
-        return importlib.import_module("railexu.stability")
-    except ImportError as exc:
-        top.fail(
-            f"analysis critical_speed needs railexu.stability, which cannot be imported: {exc}",
-            key="analysis",
-        )
+    from .. import stability
+
+    return stability
 
 
 def _parameter(name: str, raw: Any, vary: Section, ctx: dict) -> Parameter:
@@ -550,7 +545,7 @@ def _parameter(name: str, raw: Any, vary: Section, ctx: dict) -> Parameter:
         )
     if target in ("run", "critical_speed"):
         if target == "run":
-            from ..simulation import RUN_KEYS
+            from ..run_settings import RUN_KEYS
 
             keys: Sequence[str] | None = RUN_KEYS
         else:

@@ -7,7 +7,6 @@ stay module-level functions of this module.
 from __future__ import annotations
 
 import contextlib
-import importlib
 import json
 import math
 import os
@@ -147,8 +146,10 @@ def _execute(task: _Task, case_dir: Path) -> tuple[str, dict]:
 
     source = f"{task.source} ({task.case_id})"
     if task.analysis == "run":
+        from ..report.run_files import write_run
         from ..results import read_summary
-        from ..simulation import run, run_settings_from_dict, write_run
+        from ..run_settings import run_settings_from_dict
+        from ..simulation import run
 
         settings = run_settings_from_dict(task.settings, source, None, ("run",))
         vehicle = load_vehicle(task.vehicle, task.vehicle_overrides)
@@ -156,13 +157,15 @@ def _execute(task: _Task, case_dir: Path) -> tuple[str, dict]:
         result = run(vehicle, track or ideal_straight_track(), settings)
         write_run(result, case_dir, plots=task.plots)
         return str(result.status["state"]), read_summary(case_dir / RESULT_FILES["run"])
-    stability = importlib.import_module("railexu.stability")
+    from .. import stability
+    from ..report.stability_files import write_critical_speed
+
     settings = stability.critical_speed_settings_from_dict(
         task.settings, source, None, ("critical_speed",)
     )
     vehicle = load_vehicle(task.vehicle, task.vehicle_overrides)
     track = load_track(task.track, task.track_overrides) if task.track else None
     result = stability.critical_speed(vehicle, track or ideal_straight_track(), settings)
-    stability.write_critical_speed(result, case_dir, plots=task.plots)
+    write_critical_speed(result, case_dir, plots=task.plots)
     path = case_dir / RESULT_FILES["critical_speed"]
     return "completed", json.loads(path.read_text(encoding="utf-8"))

@@ -8,15 +8,15 @@ import sys
 import warnings
 from pathlib import Path
 
-from .errors import StudyWarning
-from .folder import PLOTS_DIR, RESULTS_CSV
-from .plots import plot_study
-from .runner import print_study_progress, run_study
-from .spec import load_study
-from .table import STATUSES, read_results
+from ..study.errors import StudyWarning
+from ..study.folder import PLOTS_DIR, RESULTS_CSV
+from ..study.plots import plot_study
+from ..study.runner import print_study_progress, run_study
+from ..study.spec import load_study
+from ..study.table import STATUSES, read_results
 
 
-def add_study_parser(subparsers) -> argparse.ArgumentParser:
+def add_parser(subparsers) -> argparse.ArgumentParser:
     """Add the ``study`` sub-command to the ``railexu`` parser's sub-parsers; its function
     returns the exit status: 0 when every case completed, derailed or diverged, 1 when a case
     failed."""
@@ -46,11 +46,11 @@ def add_study_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--retry-failed", action="store_true", help="run failed cases again")
     p.add_argument("--no-plots", action="store_true", help="do not draw the study plots")
     p.add_argument("--quiet", action="store_true", help="no progress line")
-    p.set_defaults(func=_cmd_study)
+    p.set_defaults(func=command)
     return p
 
 
-def _cmd_study(args: argparse.Namespace) -> int:
+def command(args: argparse.Namespace) -> int:
     study = load_study(args.study)
     n = len(study.cases())
     err = sys.stderr

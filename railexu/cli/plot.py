@@ -1,0 +1,51 @@
+"""The ``railexu plot`` sub-command: redraw the figures of a run or a study folder."""
+
+from __future__ import annotations
+
+import argparse
+
+from .common import CliError
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "plot",
+        help="redraw the plots of a run (or a study) from its files",
+        description=(
+            "Redraw the plots of a run folder (timeseries.csv, summary.json) or of a study "
+            "folder (results.csv, study.json: each result against each varied value, maps "
+            "when two vary)."
+        ),
+    )
+    p.add_argument("folder", help="output folder of railexu run or railexu study")
+    p.set_defaults(func=command)
+
+
+def command(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from ..report.figures import save_figure
+    from ..report.run_figures import run_figures
+    from ..results import TimeSeries, read_summary
+    from ..study import is_study_folder
+    from ..study.plots import plot_study
+
+    folder = Path(args.folder)
+    if is_study_folder(folder):
+        written = plot_study(folder)
+        print(f"railexu plot: wrote {len(written)} study plots to {folder}")
+        return 0
+    ts_path = folder / "timeseries.csv"
+    if not ts_path.exists():
+        raise CliError(f"{folder}: no timeseries.csv (not an output folder of railexu run)")
+    ts = TimeSeries.from_csv(ts_path)
+    summary = read_summary(folder / "summary.json") if (folder / "summary.json").exists() else None
+    title = ""
+    if summary:
+        speed = (summary.get("settings") or {}).get("speed_m_per_s")
+        title = f"{summary.get('vehicle', '')}" + (f" at {speed:g} m/s" if speed else "")
+    written = []
+    for name, fig in run_figures(ts, summary, title).items():
+        written.extend(save_figure(fig, folder / name))
+    print(f"railexu plot: wrote {len(written)} files to {folder}")
+    return 0

@@ -1,0 +1,43 @@
+"""railexu's own exception types: the bottom of the package, imported by every layer.
+
+:class:`InputError` is the one type for bad input (a file, an option, a value out of its
+physical range). The command line turns it, and only it, into a short message naming the file,
+the line and the key, with exit code 2; any other exception is a defect of railexu and is shown
+with its traceback.
+"""
+
+from __future__ import annotations
+
+
+class InputError(ValueError):
+    """Bad input: the message names file, line and key and says what was expected.
+
+    Every loader and check of railexu raises this type (or a subclass of it) for input that is
+    malformed, unknown or physically absurd.
+    """
+
+    def __init__(self, message: str, *, source: str = "", line: int | None = None, key: str = ""):
+        where = source
+        if line is not None:
+            where = f"{where}:{line}" if where else f"line {line}"
+        prefix = ": ".join(p for p in (where, key) if p)
+        super().__init__(f"{prefix}: {message}" if prefix else message)
+        self.source = source
+        self.line = line
+        self.key = key
+        self.detail = message
+
+
+def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
+    """`` Did you mean 'x'?`` for the closest of ``choices``, else `` Known: a, b, c``.
+
+    The one did-you-mean helper of railexu (loaders, registries, overrides, the command line).
+    Returns a string that starts with a space, ready to append to a message.
+    """
+    import difflib
+
+    names = [str(c) for c in choices]
+    close = difflib.get_close_matches(str(name), names, n=1, cutoff=cutoff)
+    if close:
+        return f" Did you mean {close[0]!r}?"
+    return f" Known: {', '.join(names)}" if names else ""
