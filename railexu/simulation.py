@@ -222,6 +222,24 @@ class _Recorder:
         return TimeSeries({c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)})
 
 
+_STOP_SIGNALS = {"SIGINT": "Ctrl-C, SIGINT", "SIGTERM": "SIGTERM"}
+
+
+def _catch_stop_signals(rec: dict) -> dict:
+    """Let SIGINT and SIGTERM end the run at the next step (``rec["interrupted"]`` then names the
+    signal); returns the previous handlers. A signal that the process ignores (a study's worker
+    ignores SIGINT) stays ignored; outside the main thread nothing can be caught."""
+    previous = {}
+    for name, label in _STOP_SIGNALS.items():
+        signum = getattr(signal, name)
+        with contextlib.suppress(ValueError):
+            if signal.getsignal(signum) is not signal.SIG_IGN:
+                previous[signum] = signal.signal(
+                    signum, lambda *_, label=label: rec.__setitem__("interrupted", label)
+                )
+    return previous
+
+
 def run(
     vehicle: Vehicle,
     track: Track | None = None,
@@ -321,7 +339,7 @@ def run(
         # called with the initial state (t = 0) and after every step, with the state at t
         if rec["interrupted"]:
             record(t)
-            rec["status"] = ("interrupted", t, "interrupted by the user (Ctrl-C)")
+            rec["status"] = ("interrupted", t, f"interrupted ({rec['interrupted']})")
             return False
         if t >= rec["next"] - 0.5 * h:
             # next output one interval later, on the grid k * interval, so that runs with
@@ -347,21 +365,17 @@ def run(
     # Ctrl-C ends the run at the next step with the results so far (not possible outside the
     # main thread, e.g. in a Dask worker thread: then it simply is not caught here)
     # (a process that ignores SIGINT, like a study's worker, keeps ignoring it)
+    # SIGTERM (what `timeout`, `kill` and container stops send) is treated the same way
     rec["interrupted"] = False
-    previous_handler = None
-    with contextlib.suppress(ValueError):
-        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
-            previous_handler = signal.signal(
-                signal.SIGINT, lambda *_: rec.__setitem__("interrupted", True)
-            )
+    previous_handlers = _catch_stop_signals(rec)
     try:
         mbs.SolveDynamic(ss, solverType=solver_type)
     except Exception as exc:  # Exudyn raises its own error types on Newton failure
         error = exc
     finally:
         exu.config.printToConsole = True
-        if previous_handler is not None:
-            signal.signal(signal.SIGINT, previous_handler)
+        for signum, handler in previous_handlers.items():
+            signal.signal(signum, handler)
     wall_int = time.perf_counter() - wall0[0]
     t_end = mbs.systemData.GetTime()
     # the final state, when the run's end is not on the output grid

@@ -163,23 +163,27 @@ def test_derailment_stops_the_run_and_keeps_results(tmp_path):
     assert result.summary["flange_contact"]["occurred"]
 
 
-def test_ctrl_c_stops_the_run_with_its_results():
-    """SIGINT during a run ends it at the next step with status interrupted and the time series
-    so far (as for a derailment)."""
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
+def test_a_stop_signal_ends_the_run_with_its_results(signame):
+    """SIGINT (Ctrl-C) or SIGTERM (timeout, kill, a container stop) during a run ends it at the
+    next step with status interrupted and the time series so far (as for a derailment)."""
     import os
     import signal
 
+    signum = getattr(signal, signame)
+    before = signal.getsignal(signum)
     sent = []
 
     def progress(distance, total, speed, eta):
         if distance > 5.0 and not sent:
             sent.append(distance)
-            os.kill(os.getpid(), signal.SIGINT)
+            os.kill(os.getpid(), signum)
 
     vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
     result = run(vehicle, None, RunSettings(distance_m=100.0), progress=progress)
     assert result.status["state"] == "interrupted"
+    assert signame in result.status["reason"]
     assert 5.0 < result.status["distance_m"] < 10.0
     assert result.timeseries.distance_m[-1] == pytest.approx(result.status["distance_m"])
     # the handler is restored afterwards
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signum) is before
