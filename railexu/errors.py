@@ -41,3 +41,9 @@ def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
     if close:
         return f" Did you mean {close[0]!r}?"
     return f" Known: {', '.join(names)}" if names else ""
+
+
+class ComputationError(RuntimeError):
+    """A computation that could not be completed for a physical or numerical reason (no
+    equilibrium found, a contact that cannot be pressed): reported as a failure (exit code 1),
+    not as a defect."""

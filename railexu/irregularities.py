@@ -113,6 +113,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
+from .errors import InputError
+
 __all__ = [
     "COMPONENTS",
     "RAIL_DISTANCE_M",
@@ -154,7 +156,7 @@ _CZT_BLOCK = 1 << 15
 _UNIFORM_RTOL = 1e-6
 
 
-class IrregularityError(ValueError):
+class IrregularityError(InputError):
     """Invalid irregularity data or arguments (bad CSV file, unknown name, bad grid)."""
 
 

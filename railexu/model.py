@@ -31,6 +31,7 @@ from .contact.hertz import hertz_table
 from .contact.kalker import kalker_table_for_poisson
 from .contact.placement import WheelsetGeometry, symmetric_wheelset
 from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
+from .errors import InputError
 from .forces import BS_NREAL, generalized_forces, jacobian
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
@@ -53,7 +54,7 @@ def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
     )
 
 
-class ModelError(ValueError):
+class ModelError(InputError):
     """A vehicle/track combination that cannot be built (e.g. a wheel that cannot carry its
     load)."""
 

@@ -37,6 +37,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .errors import InputError
+
 FloatArray = NDArray[np.float64]
 
 SIDES = ("left", "right")
@@ -64,7 +66,7 @@ ALPHA_FREIGHT_WAGON = 0.85
 _WHEELSET_LATERAL = re.compile(r"^ws(\d+)_lateral_m$")
 
 
-class ResultsError(ValueError):
+class ResultsError(InputError):
     """Invalid results data: bad time-series columns, unreadable CSV or summary file."""
 
 

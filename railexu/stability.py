@@ -35,6 +35,7 @@ import numpy as np
 from .contact.conicity import equivalent_conicity
 from .contact.evaluation import ContactParameters, WheelsetContactModel
 from .contact.placement import symmetric_wheelset
+from .errors import InputError
 from .model import VehicleModel, wheelset_geometry
 from .simulation import RunSettings, run
 from .track import Track, ideal_straight_track
@@ -44,7 +45,7 @@ METHODS = ("linear", "bisection", "ramp")
 LINEARIZATIONS = ("equivalent_conicity", "profiles")
 
 
-class StabilityError(ValueError):
+class StabilityError(InputError):
     """Invalid critical-speed settings."""
 
 

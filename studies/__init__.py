@@ -1,1 +1,4 @@
-"""The studies that ship with railexu (installed as ``railexu.studies``; see railexu/catalog.py)."""
+"""The studies that ship with railexu, installed as ``railexu.studies``.
+
+See railexu/catalog.py: ``railexu run NAME`` finds them by name from any folder.
+"""

@@ -1,1 +1,4 @@
-"""The tracks that ship with railexu (installed as ``railexu.tracks``; see railexu/catalog.py)."""
+"""The tracks that ship with railexu, installed as ``railexu.tracks``.
+
+See railexu/catalog.py: ``railexu run NAME`` finds them by name from any folder.
+"""

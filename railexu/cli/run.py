@@ -5,31 +5,42 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .common import CliError, split_overrides
+from .common import EXIT_FAILED, EXIT_OK, CliError, quantity, split_overrides
 
 
-def add_parser(sub) -> None:
+def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "run",
         help="simulate a vehicle running on a track",
         description=(
             "Simulate a vehicle at constant speed on a track (ideal straight track by default), "
             "starting from static equilibrium with a lateral offset. Writes timeseries.csv, "
-            "summary.json and plots (PNG and SVG) to --out. The defaults are the seed paper's "
-            "scenario: 10 m/s, 2 mm initial lateral offset, 150 m."
+            "summary.json and figures to --out. The defaults are the seed paper's scenario: "
+            "10 m/s, 2 mm initial lateral offset, 150 m. Values take units: --speed '108 km/h', "
+            "--distance 2km, --initial-lateral '2 mm'; a bare number is SI."
         ),
     )
-    p.add_argument("vehicle", help="vehicle file (YAML), e.g. vehicles/eu07.yaml")
-    p.add_argument("--track", help="track file (YAML); default: ideal straight track")
-    p.add_argument("--speed", type=float, default=10.0, help="forward speed [m/s]")
-    p.add_argument("--distance", type=float, default=150.0, help="distance to run [m]")
+    p.add_argument("vehicle", help="vehicle: a shipped name (railexu list) or a YAML file")
     p.add_argument(
-        "--initial-lateral", type=float, default=0.002, help="initial lateral offset [m]"
+        "--track", help="track: a shipped name or a YAML file (default: ideal straight track)"
     )
-    p.add_argument("--step", type=float, default=0.002, help="integration step [s]")
-    p.add_argument("--output-interval", type=float, help="output interval [s] (default 5 ms)")
+    p.add_argument("--speed", type=quantity("m/s"), default=10.0, help="forward speed [m/s]")
+    p.add_argument("--distance", type=quantity("m"), default=150.0, help="distance to run [m]")
     p.add_argument(
-        "--solver", default="generalized_alpha", choices=("generalized_alpha", "trapezoidal")
+        "--initial-lateral",
+        type=quantity("m"),
+        default=0.002,
+        help="initial lateral offset of the whole vehicle [m]",
+    )
+    p.add_argument("--step", type=quantity("s"), default=0.002, help="integration step [s]")
+    p.add_argument(
+        "--output-interval", type=quantity("s"), help="output interval [s] (default: 5 ms)"
+    )
+    p.add_argument(
+        "--solver",
+        default="generalized_alpha",
+        choices=("generalized_alpha", "trapezoidal"),
+        help="Exudyn's implicit solver",
     )
     p.add_argument(
         "--set",
@@ -40,44 +51,78 @@ def add_parser(sub) -> None:
         "bodies.car_body.mass='47 t'); 'track.KEY=VALUE' overrides the track file",
     )
     p.add_argument("--out", required=True, help="output folder")
-    p.add_argument("--no-plots", action="store_true", help="write data only")
+    p.add_argument(
+        "--plots",
+        default="png",
+        metavar="FORMATS",
+        help="figure formats, comma-separated: png, svg, or none",
+    )
+    p.add_argument("--no-plots", action="store_true", help="write data only (as --plots none)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
     p.set_defaults(func=command)
+    return p
+
+
+def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
+    """``--plots`` value -> figure formats (empty: no figures)."""
+    from ..errors import did_you_mean
+    from ..report.figures import FORMATS
+
+    items = [t.strip().lower() for t in text.split(",") if t.strip()]
+    if no_plots or items == ["none"]:
+        return ()
+    for item in items:
+        if item not in FORMATS:
+            raise CliError(
+                f"--plots {text!r}: unknown format {item!r}.{did_you_mean(item, FORMATS)}"
+            )
+    return tuple(dict.fromkeys(items))
 
 
 def command(args: argparse.Namespace) -> int:
+    from ..catalog import find_input
+    from ..report.folder import OutputFolder
     from ..report.run_files import write_run
     from ..simulation import RunSettings, print_progress, run
     from ..track import ideal_straight_track, load_track
     from ..vehicle import load_vehicle
 
-    vehicle_set, track_set = split_overrides(args.set)
-    vehicle = load_vehicle(args.vehicle, vehicle_set)
-    if args.track:
-        track = load_track(args.track, track_set)
-    elif track_set:
-        raise CliError("--set track.KEY=VALUE needs a --track file")
-    else:
-        track = ideal_straight_track()
-    settings = RunSettings(
-        speed_m_per_s=args.speed,
-        distance_m=args.distance,
-        initial_lateral_m=args.initial_lateral,
-        time_step_s=args.step,
-        output_interval_s=args.output_interval,
-        solver=args.solver,
-    )
-    if not args.quiet:
-        print(
-            f"railexu run: {vehicle.name} on {track.name}, {settings.speed_m_per_s:g} m/s, "
-            f"{settings.distance_m:g} m, initial lateral {settings.initial_lateral_m * 1e3:g} mm",
-            file=sys.stderr,
+    formats = plot_formats(args.plots, args.no_plots)
+    folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
+    try:
+        vehicle_set, track_set = split_overrides(args.set)
+        vehicle = load_vehicle(find_input("vehicle", args.vehicle), vehicle_set)
+        if args.track:
+            track = load_track(find_input("track", args.track), track_set)
+        elif track_set:
+            raise CliError("--set track.KEY=VALUE needs a --track file")
+        else:
+            track = ideal_straight_track()
+        settings = RunSettings(
+            speed_m_per_s=args.speed,
+            distance_m=args.distance,
+            initial_lateral_m=args.initial_lateral,
+            time_step_s=args.step,
+            output_interval_s=args.output_interval,
+            solver=args.solver,
         )
-    result = run(vehicle, track, settings, progress=None if args.quiet else print_progress())
-    written = write_run(result, args.out, plots=not args.no_plots)
+        if not args.quiet:
+            print(
+                f"railexu run: {vehicle.name} on {track.name}, {settings.speed_m_per_s:g} m/s, "
+                f"{settings.distance_m:g} m, initial lateral "
+                f"{settings.initial_lateral_m * 1e3:g} mm",
+                file=sys.stderr,
+            )
+        result = run(vehicle, track, settings, progress=None if args.quiet else print_progress())
+        for warning in result.summary.get("warnings", []):
+            print(f"railexu run: warning: {warning}", file=sys.stderr)
+        written = write_run(result, folder, plots=bool(formats), formats=formats or ("png",))
+        folder.finish()
+    finally:
+        folder.release()
     print(format_summary(result.summary))
     print(f"  wrote {len(written)} files to {args.out}")
-    return 0 if result.status["state"] == "completed" else 1
+    return EXIT_OK if result.status["state"] == "completed" else EXIT_FAILED
 
 
 def format_summary(summary: dict) -> str:

@@ -26,6 +26,7 @@ import difflib
 
 import numba
 
+from ..errors import InputError
 from .fastsim import fastsim_nb
 from .kalker import kalker_linear_nb
 from .polach import POLACH_2005_PRESETS, Polach2005Parameters, polach_2005_preset, polach_nb
@@ -49,7 +50,7 @@ FASTSIM_KERNEL_STRIPS = 20
 FASTSIM_KERNEL_POINTS = 20
 
 
-class UnknownCreepModelError(ValueError):
+class UnknownCreepModelError(InputError):
     """Raised for a creep-law name (or code) that is not registered."""
 
 

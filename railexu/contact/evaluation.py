@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from . import kernel as K
 from .creep import creep_model_code
 from .hertz import hertz_table
@@ -28,7 +29,7 @@ DAMPING_MODELS = {
 }
 
 
-class ContactParameterError(ValueError):
+class ContactParameterError(InputError):
     """Invalid contact parameters."""
 
 

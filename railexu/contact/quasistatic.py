@@ -19,10 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._roots import brent
+from ..errors import ComputationError
 from .evaluation import WheelsetContactModel, WheelsetContactResult
 
 
-class ContactSolveError(RuntimeError):
+class ContactSolveError(ComputationError):
     """A quasi-static contact problem without a solution (wheel off its rail, no convergence)."""
 
 

@@ -14,13 +14,26 @@ from matplotlib.figure import Figure
 SIDES = ("left", "right")
 
 
-def save_figure(fig: Figure, stem: str | Path, dpi: int = 130) -> list[Path]:
-    """Save ``fig`` as ``stem.png`` and ``stem.svg``; returns both paths."""
+FORMATS = ("png", "svg")
+
+
+def save_figure(
+    fig: Figure, stem: str | Path, dpi: int = 130, formats: tuple[str, ...] = FORMATS
+) -> list[Path]:
+    """Save ``fig`` as ``stem.png`` and/or ``stem.svg`` (each written under a temporary name and
+    renamed into place); returns the paths."""
+    from .folder import atomic_path
+
     stem = Path(stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
-    paths = [stem.with_suffix(".png"), stem.with_suffix(".svg")]
-    fig.savefig(paths[0], dpi=dpi)
-    fig.savefig(paths[1])
+    paths = []
+    for fmt in formats:
+        if fmt not in FORMATS:
+            raise ValueError(f"figure format {fmt!r}: expected one of {FORMATS}")
+        path = stem.with_suffix(f".{fmt}")
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=fmt)
+        paths.append(path)
     return paths
 
 

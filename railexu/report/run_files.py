@@ -6,27 +6,54 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..results import write_summary
+from .folder import OutputFolder, atomic_path
 
 if TYPE_CHECKING:
     from ..simulation import RunResult
 
 
-def write_run(result: RunResult, out_dir: str | Path, plots: bool = True) -> list[Path]:
-    """Write ``timeseries.csv``, ``summary.json`` and the plots of a run into ``out_dir``."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-    path = out / "timeseries.csv"
-    result.timeseries.to_csv(path)
-    written.append(path)
-    path = out / "summary.json"
-    write_summary(result.summary, path)
-    written.append(path)
+def write_run(
+    result: RunResult,
+    out_dir: str | Path | OutputFolder,
+    plots: bool = True,
+    formats: tuple[str, ...] = ("png",),
+) -> list[Path]:
+    """Write ``timeseries.csv``, ``summary.json`` and the figures of a run into ``out_dir``.
+
+    Each file is written under a temporary name and renamed into place; the files of an older
+    run in the same folder that this run does not write again (figures of another format, a
+    figure this run does not draw) are removed. ``out_dir`` may be an :class:`OutputFolder`
+    already prepared (and locked) before the run, as ``railexu run`` does.
+
+    Args:
+        plots: draw the figures.
+        formats: figure formats, ``"png"`` and/or ``"svg"``.
+
+    Raises:
+        InputError: the folder is not writable, is being written by another process, or holds
+            the output of another kind of job.
+    """
+    if isinstance(out_dir, OutputFolder):
+        return _write_into(result, out_dir, plots, formats)
+    with OutputFolder(out_dir, "run") as folder:
+        return _write_into(result, folder, plots, formats)
+
+
+def _write_into(
+    result: RunResult, folder: OutputFolder, plots: bool, formats: tuple[str, ...]
+) -> list[Path]:
+    path = folder.file("timeseries.csv")
+    with atomic_path(path) as tmp:
+        result.timeseries.to_csv(tmp)
+    path = folder.file("summary.json")
+    with atomic_path(path) as tmp:
+        write_summary(result.summary, tmp)
     if plots:
         from .figures import save_figure
         from .run_figures import run_figures
 
         title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
         for name, fig in run_figures(result.timeseries, result.summary, title).items():
-            written.extend(save_figure(fig, out / name))
-    return written
+            for path in save_figure(fig, folder.path / name, formats=formats):
+                folder.file(path.name)
+    return list(folder.written)

@@ -1,7 +1,9 @@
 """The exceptions and warnings of parameter studies."""
 
+from ..errors import InputError
 
-class StudyError(ValueError):
+
+class StudyError(InputError):
     """A study cannot run as asked: its output folder holds another study's results, another
     study is running in it, bad worker settings."""
 

@@ -1,0 +1,3 @@
+"""The version of railexu (the bottom layer: anything may import it)."""
+
+__version__ = "0.1.0"

@@ -1,0 +1,208 @@
+"""The command line as a user meets it: names of shipped files, units in options, negative
+values, help texts, exit codes, errors that are bugs, broken pipes, output folders."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from railexu.cli import build_parser, main
+from railexu.cli.common import EXIT_BUG, EXIT_INPUT, join_negative_values, quantity
+from railexu.errors import InputError
+from railexu.report.folder import MANIFEST, OutputFolder
+
+ROOT = Path(__file__).resolve().parents[1]
+SHORT_RUN = ["--distance", "3 m", "--quiet", "--plots", "none"]
+
+
+def run_cli(args: list[str], cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """The installed ``railexu`` console script, as a user runs it."""
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    return subprocess.run(
+        [sys.executable, "-c", "from railexu.cli import entry_point; entry_point()", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "unit", "expected"),
+    [
+        ("108 km/h", "m/s", 30.0),  # 108 / 3.6
+        ("108km/h", "m/s", 30.0),
+        ("30", "m/s", 30.0),  # a bare number is SI
+        ("2km", "m", 2000.0),
+        ("2 mm", "m", 0.002),
+        ("-2 mm", "m", -0.002),
+        ("5 ms", "s", 0.005),
+    ],
+)
+def test_options_take_units(text, unit, expected):
+    assert quantity(unit)(text) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize("text", ["5 kg", "fast", "inf", "nan m/s"])
+def test_options_refuse_wrong_units_and_non_finite_values(text):
+    import argparse
+
+    with pytest.raises(argparse.ArgumentTypeError):
+        quantity("m/s")(text)
+
+
+def test_a_value_with_units_reaches_the_run_settings():
+    args = build_parser().parse_args(
+        ["run", "eu07", "--speed", "108 km/h", "--distance", "2km", "--out", "x"]
+    )
+    assert args.speed == pytest.approx(30.0)
+    assert args.distance == pytest.approx(2000.0)
+
+
+def test_negative_option_values_are_values_not_options():
+    argv = join_negative_values(["contact", "--lateral", "-0.010:0.010:0.0005", "--out", "x"])
+    assert argv == ["contact", "--lateral=-0.010:0.010:0.0005", "--out", "x"]
+    args = build_parser().parse_args(argv)
+    assert args.lateral == "-0.010:0.010:0.0005"
+
+
+def test_help_shows_defaults_choices_and_exit_codes(capsys):
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "(default: 10.0)" in text  # --speed
+    assert "generalized_alpha" in text and "trapezoidal" in text  # --solver's choices
+    assert "exit codes: 0" in text and "2 bad input" in text
+
+
+def test_list_shows_shipped_files_with_descriptions(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for name in ("eu07", "eu07_bogie", "wheelset", "straight_irregular", "S1002", "UIC60"):
+        assert f"  {name} " in out, name
+    assert "EU07 Bo'Bo' electric locomotive" in out
+
+
+def test_list_refuses_an_unknown_kind_with_a_suggestion(capsys):
+    assert main(["list", "vehicle"]) == EXIT_INPUT
+    assert "Did you mean 'vehicles'?" in capsys.readouterr().err
+
+
+def test_shipped_names_work_from_any_folder(tmp_path):
+    """`railexu run eu07_bogie --track straight_irregular` from a folder without input files."""
+    out = tmp_path / "run"
+    done = run_cli(
+        ["run", "eu07_bogie", "--track", "straight_irregular", "--out", str(out), *SHORT_RUN],
+        cwd=tmp_path,
+    )
+    assert done.returncode == 0, done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["vehicle"] == "EU07 bogie" or "bogie" in summary["vehicle"].lower()
+    assert summary["track"]
+
+
+def test_an_unknown_name_is_an_input_error_with_a_suggestion(tmp_path, capsys):
+    assert main(["run", "eu7", "--out", str(tmp_path / "o"), *SHORT_RUN]) == EXIT_INPUT
+    err = capsys.readouterr().err
+    assert "Did you mean 'eu07'?" in err and "Traceback" not in err
+
+
+def test_a_defect_shows_its_traceback_and_asks_for_a_report(monkeypatch, tmp_path, capsys):
+    """Only InputError is bad input; anything else is a bug and must not hide as exit 2."""
+    import railexu.cli.run as run_cmd
+
+    def broken(args):
+        raise ValueError("an internal inconsistency")
+
+    monkeypatch.setattr(run_cmd, "command", broken)
+    status = main(["run", "eu07", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert status == EXIT_BUG
+    assert "Traceback" in err and "ValueError: an internal inconsistency" in err
+    assert "Please report it" in err
+
+
+def test_output_piped_into_head_gives_no_traceback():
+    """`railexu list | head -1`: the reader goes away before railexu writes; no traceback."""
+    proc = subprocess.Popen(
+        [sys.executable, "-c", "import time; time.sleep(0.5)\n"
+         "from railexu.cli import entry_point; import sys; sys.argv = ['railexu', 'list']\n"
+         "entry_point()"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )  # fmt: skip
+    proc.stdout.close()  # like `head` after its first line
+    _, err = proc.communicate(timeout=120)
+    assert b"Traceback" not in err and b"BrokenPipeError" not in err, err.decode()
+
+
+def test_out_is_checked_before_the_run(tmp_path, capsys):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("not a folder")
+    for out in (a_file, a_file / "inside"):
+        assert main(["run", "eu07", "--out", str(out), *SHORT_RUN]) == EXIT_INPUT
+        err = capsys.readouterr().err
+        assert "an output folder was expected" in err
+        assert "status:" not in err  # nothing was simulated
+
+
+def test_a_locked_folder_is_refused(tmp_path):
+    first = OutputFolder(tmp_path / "out", "run").prepare()
+    try:
+        with pytest.raises(InputError, match="another railexu process is writing"):
+            OutputFolder(tmp_path / "out", "run").prepare()
+    finally:
+        first.release()
+    OutputFolder(tmp_path / "out", "run").prepare().release()  # free again
+
+
+def test_a_new_run_removes_the_older_runs_figures(tmp_path):
+    out = tmp_path / "out"
+    assert main(["run", "wheelset", "--out", str(out), "--distance", "3", "--quiet",
+                 "--plots", "png,svg"]) == 0  # fmt: skip
+    assert sorted(p.suffix for p in out.glob("lateral_force.*")) == [".png", ".svg"]
+    assert main(["run", "wheelset", "--out", str(out), "--distance", "3", "--quiet"]) == 0
+    assert [p.suffix for p in out.glob("lateral_force.*")] == [".png"]  # the old SVG is gone
+    manifest = json.loads((out / MANIFEST).read_text())
+    assert manifest["kind"] == "run" and "summary.json" in manifest["files"]
+    assert not list(out.glob(".*.tmp*"))  # no temporary files left
+
+
+def test_a_folder_of_another_kind_of_output_is_refused(tmp_path, capsys):
+    out = tmp_path / "study"
+    out.mkdir()
+    (out / "study.json").write_text("{}")
+    (out / "results.csv").write_text("case_id\n")
+    assert main(["run", "wheelset", "--out", str(out), *SHORT_RUN]) == EXIT_INPUT
+    assert "holds the output of a study job" in capsys.readouterr().err
+
+
+def test_the_front_door_exposes_the_public_functions():
+    import railexu
+
+    for name in ("load_vehicle", "load_track", "run", "contact_check", "critical_speed",
+                 "run_study", "RunSettings", "RunResult", "TimeSeries", "InputError"):  # fmt: skip
+        assert name in railexu.__all__
+        assert getattr(railexu, name).__doc__, name
+    vehicle = railexu.load_vehicle(ROOT / "vehicles" / "wheelset.yaml")
+    result = railexu.run(vehicle, None, railexu.RunSettings(distance_m=2.0))
+    assert result.status["state"] == "completed"
+    assert isinstance(result.timeseries, railexu.TimeSeries)
+
+
+def test_importing_railexu_is_cheap():
+    """`import railexu` loads neither Exudyn, numba nor matplotlib (the front door is lazy)."""
+    code = (
+        "import sys, railexu\n"
+        "heavy = [m for m in ('exudyn', 'numba', 'matplotlib', 'scipy') if m in sys.modules]\n"
+        "print(','.join(heavy))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == ""
