@@ -7,6 +7,7 @@ the Dask cluster dominate the time of this file.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import shutil
 import sys
@@ -580,6 +581,75 @@ def test_incomplete_last_line_is_dropped_and_rerun(local_study, tmp_path):
     ]
 
 
+@pytest.mark.parametrize("cut", [1, 5, 15])
+def test_a_last_row_cut_inside_its_case_hash_is_dropped_and_rerun(local_study, tmp_path, cut):
+    """A power cut inside the last field (the case hash): the row has all its fields but a
+    short hash and no line end. It is dropped and its case runs again, with no talk of
+    another study."""
+    path, out, first, _ = local_study
+    out2 = tmp_path / "out"
+    shutil.copytree(out, out2)
+    text = (out2 / "results.csv").read_text()
+    assert text.endswith("\n")
+    (out2 / "results.csv").write_text(text[: len(text) - 1 - cut])  # the line end and `cut` hex
+    result = run_study(path, out2, workers=0)
+    assert result.ran == 1 and len(result.rows) == 2
+    assert [r["case_hash"] for r in result.rows] == [r["case_hash"] for r in first.rows]
+
+
+def test_workers_end_when_the_study_process_is_killed(tmp_path):
+    """kill -9 of a study's main process: its worker processes notice and end (they would
+    otherwise stay blocked forever, some 200 MB each)."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    path = write_study(
+        tmp_path,
+        """\
+        vary:
+          parameters:
+            run.speed: [10, 11, 12, 13, 14, 15]
+        """,
+    )
+    slow = path.read_text().replace("distance: 5 m", "distance: 400 m")
+    path.write_text(slow)
+    code = (
+        "from railexu.study import run_study\n"
+        f"run_study({str(path)!r}, {str(tmp_path / 'out')!r}, workers=2)\n"
+    )
+    main = subprocess.Popen([sys.executable, "-c", code])
+
+    def children(pid: int) -> list[int]:
+        found = []
+        for task in Path(f"/proc/{pid}/task").glob("*"):
+            with contextlib.suppress(OSError):
+                found += [int(c) for c in (task / "children").read_text().split()]
+        return found
+
+    try:
+        deadline = time.monotonic() + 120
+        workers: list[int] = []
+        while time.monotonic() < deadline and len(workers) < 2:
+            time.sleep(0.5)
+            workers = [
+                c for c in children(main.pid)
+                if "resource_tracker" not in Path(f"/proc/{c}/cmdline").read_text()
+            ]  # fmt: skip
+        assert len(workers) >= 2, "the study did not start its workers"
+    finally:
+        main.send_signal(signal.SIGKILL)
+        main.wait(timeout=30)
+    deadline = time.monotonic() + 30
+    alive = list(workers)
+    while alive and time.monotonic() < deadline:
+        time.sleep(0.2)
+        alive = [w for w in alive if Path(f"/proc/{w}").exists() and
+                 "Z" not in Path(f"/proc/{w}/stat").read_text().split(")")[-1][:3]]  # fmt: skip
+    assert not alive, f"workers still alive after their parent was killed: {alive}"
+
+
 def test_critical_speed_analysis_with_a_fake_critical_speed(tmp_path, monkeypatch):
     stability = pytest.importorskip("railexu.stability")
     seen = []
@@ -776,3 +846,44 @@ def test_yaml_text_round_trips_override_values():
         text = S._yaml_text(value)
         assert yaml.safe_load(text) == value, (value, text)
     assert S._cell(True) == "true" and S._cell(None) == "" and S._cell(0.1) == "0.1"
+
+
+def test_a_changed_input_file_reruns_the_cases_and_keeps_the_old_results(tmp_path):
+    """Resuming after the vehicle file (or a file it names) changed must not reuse the old
+    results: they are set aside, a warning names the file, and every case runs again."""
+    vehicle = tmp_path / "wheelset.yaml"
+    vehicle.write_text((VEHICLES / "wheelset.yaml").read_text())
+    path = write_study(
+        tmp_path,
+        """\
+        vary:
+          parameters:
+            run.speed: [10, 12]
+        """,
+    )
+    path.write_text(path.read_text().replace(str(VEHICLES / "wheelset.yaml"), str(vehicle)))
+    out = tmp_path / "out"
+    first = run_study(path, out, workers=0)
+    assert first.ran == 2
+    assert run_study(path, out, workers=0).ran == 0  # nothing changed: all reused
+    # a change that does not alter the parsed data (a comment) still changes the file
+    vehicle.write_text(vehicle.read_text() + "\n# edited\n")
+    with pytest.warns(StudyWarning, match="input files changed .*wheelset.yaml"):
+        again = run_study(path, out, workers=0)
+    assert again.ran == 2 and again.skipped == 0
+    assert (out / "results.before-input-change.csv").exists()
+    # a change of a value: the same
+    vehicle.write_text(vehicle.read_text().replace("4.25 t", "4.5 t", 1))
+    with pytest.warns(StudyWarning, match="input files changed"):
+        assert run_study(path, out, workers=0).ran == 2
+
+
+def test_the_files_a_vehicle_names_are_part_of_the_study_inputs(tmp_path):
+    from railexu.study.input_files import input_file_digests
+
+    (tmp_path / "worn.txt").write_text("0 0\n1 1\n")
+    (tmp_path / "v.yaml").write_text("wheelsets:\n  ws1: {wheel_profile: worn.txt}\n")
+    (tmp_path / "alt.txt").write_text("0 0\n")
+    digests = input_file_digests(tmp_path / "v.yaml", None, ["alt.txt", 10.0], tmp_path)
+    names = sorted(Path(p).name for p in digests)
+    assert names == ["alt.txt", "v.yaml", "worn.txt"]

@@ -7,6 +7,7 @@ the task finishes.
 from __future__ import annotations
 
 import contextlib
+import os
 import uuid
 from collections import deque
 from collections.abc import Iterator, Sequence
@@ -52,7 +53,9 @@ def _run_local(tasks: Sequence[_Task], workers: int) -> Iterator[dict]:
         while queue or suspects or inflight:
             if pool is None:
                 n = max(1, min(workers, len(queue) + len(suspects)))
-                pool = ProcessPoolExecutor(n, mp_context=ctx, initializer=_worker_init)
+                pool = ProcessPoolExecutor(
+                    n, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
+                )
             limit = 1 if suspects or isolated else workers
             pool_broken = False
             while len(inflight) < limit and (suspects or queue):

@@ -3,19 +3,22 @@
 from __future__ import annotations
 
 import contextlib
+import json
 import math
 import os
 import sys
 import time
+import warnings
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from .errors import StudyError
+from .errors import StudyError, StudyWarning
 from .execution import _dask_client, _run_dask, _run_inline, _run_local
 from .folder import CASES_DIR, RESULTS_CSV, STUDY_JSON, _locked, _write_files, _write_json
-from .spec import Study, load_study
+from .input_files import changed_files, input_file_digests
+from .spec import Study, _sha256, load_study
 from .table import STATUSES, _Table, read_results
 from .worker import _make_task
 
@@ -91,6 +94,59 @@ class StudyResult:
         return not self.failed
 
 
+STALE_RESULTS_CSV = "results.before-input-change.csv"
+
+
+def with_input_files(study: Study) -> Study:
+    """``study`` with the digests of the files its cases read (vehicle, track, the profiles and
+    measured files they name, file paths among the varied values) in its fingerprint, so that a
+    change in any of them changes every case's hash."""
+    values = [v for p in study.parameters for v in p.values]
+    digests = input_file_digests(study.vehicle, study.track, values, Path(study.source).parent)
+    fingerprint = {k: v for k, v in study.fingerprint.items() if k != "digest"}
+    fingerprint["input_files"] = _sha256(digests)
+    fingerprint["digest"] = _sha256(fingerprint)
+    return replace(study, fingerprint=fingerprint, input_files=digests)
+
+
+def _set_aside_stale_results(out: Path, study: Study) -> None:
+    """The same study as before, but a file its cases read changed since they ran: the old
+    results no longer belong to these inputs. They are kept beside (never deleted) as
+    ``results.before-input-change.csv``, and every case runs again."""
+    try:
+        old = json.loads((out / STUDY_JSON).read_text(encoding="utf-8"))
+        old_fp = dict(old["fingerprint"])
+        old_files = dict(old.get("input_files") or {})
+    except (OSError, ValueError, KeyError, TypeError):
+        return
+    new_fp = study.fingerprint
+
+    # the files' contents: the parsed vehicle and track files and the digests of all files
+    inputs = ("vehicle", "track", "input_files", "digest")
+
+    def settings_of(fp: dict) -> dict:
+        return {k: v for k, v in fp.items() if k not in inputs}
+
+    new = study.to_dict()
+    results = out / RESULTS_CSV
+    same_study = (
+        settings_of(old_fp) == settings_of(new_fp)
+        and old.get("parameters") == new["parameters"]
+        and old.get("base", {}).get("vehicle") == new["base"]["vehicle"]
+        and old.get("base", {}).get("track") == new["base"]["track"]
+    )
+    if not same_study or old_fp.get("digest") == new_fp.get("digest") or not results.exists():
+        return
+    changed = changed_files(old_files, study.input_files) or ["(files not recorded before)"]
+    os.replace(results, out / STALE_RESULTS_CSV)
+    warnings.warn(
+        f"{out}: input files changed since the finished cases ran ({', '.join(changed)}): "
+        f"their results are kept in {STALE_RESULTS_CSV} and every case runs again",
+        StudyWarning,
+        stacklevel=3,
+    )
+
+
 def run_study(
     study: Study | str | Path,
     out_dir: str | Path,
@@ -134,8 +190,10 @@ def run_study(
         raise StudyError(f"workers must be an integer >= 0, got {workers!r}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    study = with_input_files(study)
     cases = study.cases()
     with _locked(out):
+        _set_aside_stale_results(out, study)
         table = _Table(out, study, cases)
         kept = table.prepare(retry_failed)
         _write_json(out / STUDY_JSON, {**study.to_dict(), "cases": [c.to_dict() for c in cases]})

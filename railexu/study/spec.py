@@ -185,6 +185,7 @@ class Study:
     plots: bool
     fingerprint: dict[str, str]
     lines: dict = field(default_factory=dict, repr=False, compare=False)
+    input_files: dict[str, str] = field(default_factory=dict, compare=False)
 
     # -- cases ----------------------------------------------------------------------------------
     def cases(self) -> list[Case]:
@@ -271,6 +272,7 @@ class Study:
             "parameters": [p.to_dict() for p in self.parameters],
             "collect": list(self.collect),
             "fingerprint": dict(self.fingerprint),
+            "input_files": dict(self.input_files),
         }
 
     def collect_line(self, index: int) -> int | None:

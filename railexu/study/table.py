@@ -83,8 +83,15 @@ def _read_table(path: Path) -> tuple[list[str], list[list[str]], bool]:
     if not records:
         return [], [], False
     header = records[0]
-    rows = [r for r in records[1:] if len(r) == len(header)]
-    damaged = len(rows) != len(records) - 1 or (bool(text) and not text.endswith("\n"))
+    body = records[1:]
+    # every row is written with its line end and flushed: a last line without one was cut
+    # (a power cut, a killed process), whatever it holds, even when its fields look complete
+    # (a case hash cut short); it is dropped and its case runs again
+    cut = bool(body) and not text.endswith("\n")
+    if cut:
+        body = body[:-1]
+    rows = [r for r in body if len(r) == len(header)]
+    damaged = cut or len(rows) != len(records) - 1
     return header, rows, damaged
 
 

@@ -62,11 +62,29 @@ def _make_task(study: Study, case: Case, case_dir: Path | None, in_worker: bool)
     )
 
 
-def _worker_init() -> None:
-    """Worker processes ignore Ctrl-C: the main process cancels and ends them cleanly."""
+def _worker_init(parent: int | None = None) -> None:
+    """Worker processes ignore Ctrl-C (the main process cancels and ends them cleanly) and end
+    when their parent does: a study's main process that is killed (``kill -9``, an out-of-memory
+    kill) must not leave workers of some 200 MB each blocked forever."""
     import signal
+    import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if parent is None:
+        parent = os.getppid()
+    # the parent's id is passed in: a parent killed while this worker started is noticed too
+    threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
+
+
+PARENT_POLL_S = 0.5
+
+
+def _exit_with_parent(parent: int) -> None:
+    """End this process when ``parent`` is gone (the process is then re-parented, so its parent
+    id changes): polls every :data:`PARENT_POLL_S` seconds."""
+    while os.getppid() == parent:
+        time.sleep(PARENT_POLL_S)
+    os._exit(1)
 
 
 def _error_text(exc: BaseException) -> str:
