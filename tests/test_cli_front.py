@@ -206,3 +206,30 @@ def test_importing_railexu_is_cheap():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == ""
+
+
+def test_warnings_are_printed_on_the_console_too(tmp_path, capsys):
+    """The declared axle load against masses and loads: in summary.json and on the console."""
+    out = tmp_path / "out"
+    status = main(["run", "wheelset", "--out", str(out), *SHORT_RUN,
+                   "--set", "wheelsets.ws1.axle_load=150 kN"])  # fmt: skip
+    assert status == 0
+    err = capsys.readouterr().err
+    assert "warning: wheelset ws1: declared axle load 150.0 kN" in err
+    summary = json.loads((out / "summary.json").read_text())
+    assert any("declared axle load 150.0 kN" in w for w in summary["warnings"])
+
+
+def test_a_set_override_changes_the_value_it_names(tmp_path):
+    """--set must reach the model: a heavier wheelset carries a larger wheel load."""
+    loads = []
+    for mass in ("4.25 t", "6.25 t"):
+        out = tmp_path / mass.replace(" ", "")
+        assert main(["run", "wheelset", "--out", str(out), *SHORT_RUN,
+                     "--set", f"wheelsets.ws1.mass={mass}"]) == 0  # fmt: skip
+        from railexu.results import TimeSeries
+
+        ts = TimeSeries.from_csv(out / "timeseries.csv")
+        loads.append(float(ts["ws1_left_Q_N"][0] + ts["ws1_right_Q_N"][0]))
+    # 2 t more on the axle: 2000 kg x 9.81 m/s^2 = 19.6 kN more on the rails (statics)
+    assert loads[1] - loads[0] == pytest.approx(2000.0 * 9.81, rel=0.01)
