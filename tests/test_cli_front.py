@@ -233,3 +233,10 @@ def test_a_set_override_changes_the_value_it_names(tmp_path):
         loads.append(float(ts["ws1_left_Q_N"][0] + ts["ws1_right_Q_N"][0]))
     # 2 t more on the axle: 2000 kg x 9.81 m/s^2 = 19.6 kN more on the rails (statics)
     assert loads[1] - loads[0] == pytest.approx(2000.0 * 9.81, rel=0.01)
+
+
+def test_python_dash_m_runs_the_command():
+    done = subprocess.run(
+        [sys.executable, "-m", "railexu.cli", "--version"], capture_output=True, text=True
+    )
+    assert done.returncode == 0 and done.stdout.startswith("railexu ")
