@@ -1,7 +1,7 @@
 """Time per wheelset contact evaluation, in the form the dynamics calls it.
 
 One evaluation = both wheels of a wheelset, every contact point (tread and flange), the Hertz
-normal force with damping and Polach's creep forces with spin, from the wheelset's position and
+normal force with damping and the creep forces with spin (the default law unless named), from the wheelset's position and
 velocity. Printed:
 
 - the compiled kernel called from compiled code (as inside the dynamics' force function, which
@@ -10,7 +10,8 @@ velocity. Printed:
   Python per wheelset);
 - the slow general four-parameter search, for comparison (it checks the kernel in the tests).
 
-Run: ``python benchmarks/contact.py`` (timings vary by tens of percent between runs).
+Run: ``python benchmarks/contact.py [CREEP_LAW ...]`` (default ``polach_fastsim``; timings vary
+by tens of percent between runs).
 """
 
 from __future__ import annotations
@@ -66,10 +67,10 @@ def _states(model: WheelsetContactModel, speed: float, r0: float) -> np.ndarray:
     return np.array(out)
 
 
-def main() -> None:
+def main(creep_model: str = "polach_fastsim") -> None:
     r0, speed = 0.625, 10.0
     geometry = symmetric_wheelset("S1002", "UIC60", nominal_radius_m=r0, inclination="1:40")
-    model = WheelsetContactModel(geometry, ContactParameters(creep_model="polach"), speed)
+    model = WheelsetContactModel(geometry, ContactParameters(creep_model=creep_model), speed)
     states = _states(model, speed, r0)
     arrays = (
         model.wtab_l, model.winfo_l, model.rtab_l, model.rinfo_l,
@@ -87,7 +88,7 @@ def main() -> None:
         _loop(n, arrays, model.params, states, rails, points, force)
         best = min(best, (time.perf_counter() - t0) / n)
     n_pts = np.mean([np.count_nonzero(points[:, :, K.PF_N] > 0)])
-    print("S1002 / UIC60 1:40, r0 = 0.625 m, V = 10 m/s, Polach with spin, 50 kN per wheel")
+    print(f"S1002 / UIC60 1:40, r0 = 0.625 m, V = 10 m/s, creep law {creep_model}, 50 kN/wheel")
     print(f"  compiled kernel, from compiled code: {best * 1e6:6.2f} us per wheelset evaluation")
     print(f"    (both wheels, ~{n_pts:.0f} loaded points in the last state; limit 10 us)")
 
@@ -109,4 +110,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    for name in sys.argv[1:] or ["polach_fastsim"]:
+        main(name)
