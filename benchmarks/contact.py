@@ -1,8 +1,8 @@
 """Time per wheelset contact evaluation, in the form the dynamics calls it.
 
 One evaluation = both wheels of a wheelset, every contact point (tread and flange), the Hertz
-normal force with damping and the creep forces with spin (the default law unless named), from the wheelset's position and
-velocity. Printed:
+normal force with damping and the creep forces with spin (the default law unless named), from
+the wheelset's position and velocity. Printed:
 
 - the compiled kernel called from compiled code (as inside the dynamics' force function, which
   evaluates all wheelsets in one compiled call);

@@ -52,7 +52,14 @@ def test_conformal_large_spin_each_component_within_10_percent_of_mu_q(conformal
     row, h = conformal
     mu, q = float(row["mu"]), float(row["FN_N"])
     fx, fy = _forces(
-        law, float(row["xi"]), float(row["eta"]), float(row["phi_per_mm"]) * 1e3, q, h.a_m, h.b_m, mu
+        law,
+        float(row["xi"]),
+        float(row["eta"]),
+        float(row["phi_per_mm"]) * 1e3,
+        q,
+        h.a_m,
+        h.b_m,
+        mu,
     )
     assert abs(fx - float(row["FX_N"])) < 0.10 * mu * q
     assert abs(fy - float(row["FY_N"])) < 0.10 * mu * q
@@ -157,5 +164,7 @@ def test_default_blend_is_continuous_in_spin():
     c = kalker_coefficients(a / b, NU)
     scale = mu * q / (G * (a * b) ** 1.5 * c[2])
     ratios = np.linspace(0.25, 0.65, 401)
-    fy = np.array([_forces("polach_fastsim", 0.002, 0.003, r * scale, q, a, b, mu)[1] for r in ratios])
+    fy = np.array(
+        [_forces("polach_fastsim", 0.002, 0.003, r * scale, q, a, b, mu)[1] for r in ratios]
+    )
     assert np.max(np.abs(np.diff(fy))) < 0.005 * mu * q

@@ -198,6 +198,7 @@ def equilibrium_lateral(model: WheelsetContactModel, search_m: float = 0.005) ->
     Zero for a symmetric wheelset; for different radii or profiles left and right the position
     where both wheels roll on the same radius (searched within ``+-search_m``).
     """
+
     def f(y: float) -> float:
         return float(rolling_radius_difference(model, np.array([y]))[0])
 

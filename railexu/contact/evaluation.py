@@ -22,6 +22,7 @@ from .parameters import (  # noqa: F401 (re-exported: the old import path)
 )
 from .placement import WheelRailPair, WheelsetGeometry
 
+
 def _smoothed(d2z: np.ndarray, step_m: float, width_m: float) -> np.ndarray:
     """Second derivative averaged with a Gaussian of standard deviation ``width_m``."""
     if width_m <= 0.0:

@@ -18,6 +18,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from ..errors import InputError
 from ..profiles import Profile, SampledProfile, rail_profile, wheel_profile
 
 #: Lateral step of the tables the compiled kernel interpolates [m].
@@ -27,7 +28,7 @@ TABLE_STEP_M = 5.0e-5
 GAUGE_MEASUREMENT_DEPTH_M = 0.014
 
 
-class PlacementError(ValueError):
+class PlacementError(InputError):
     """A wheel/rail placement that cannot be built (bad inclination, wheel without flange back)."""
 
 

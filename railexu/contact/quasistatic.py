@@ -17,8 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
-from .._roots import brent
 from .evaluation import WheelsetContactModel, WheelsetContactResult
 
 
@@ -78,7 +78,7 @@ def rigid_contact(
         raise ContactSolveError(
             f"no rigid contact roll angle found at y = {lateral_m * 1e3:.2f} mm"
         )
-    phi = brent(h, lo, hi, xtol=1e-13, rtol=1e-13)
+    phi = brentq(h, lo, hi, xtol=1e-13, rtol=1e-13)
     gl, _ = _min_gaps(model, lateral_m, z0, phi, yaw_rad)
     return RigidContact(lateral_m, yaw_rad, z0 - gl, phi)
 
@@ -172,7 +172,7 @@ def press_wheelset(
                     f"the {('left', 'right')[i]} wheel cannot carry {loads[i]:.0f} N at "
                     f"y = {lateral_m * 1e3:.2f} mm, yaw = {yaw_rad * 1e3:.2f} mrad"
                 )
-            u[i] = brent(residual, lo, hi, xtol=1e-13, rtol=1e-14)
+            u[i] = brentq(residual, lo, hi, xtol=1e-13, rtol=1e-14)
         f, res = loads_at(u)
     raise ContactSolveError(
         f"wheelset could not be pressed onto the rails at y = {lateral_m * 1e3:.2f} mm, "
@@ -231,4 +231,4 @@ def free_rolling_spin_rate(
     f_lo, f_hi = fx(lo), fx(hi)
     if f_lo * f_hi > 0.0:
         return speed / r0
-    return float(brent(fx, lo, hi, xtol=1e-12, rtol=1e-14))
+    return float(brentq(fx, lo, hi, xtol=1e-12, rtol=1e-14))

@@ -15,6 +15,8 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import CubicSpline, PPoly
 from scipy.optimize import brentq
 
+from ..errors import InputError
+
 #: Steepest slope angle [deg] the graph ``z(y)`` keeps; steeper parts are only in ``outline_m``.
 #: Flange contact needs wheel/rail angles up to ~72 deg, the rail cant adds ~1.4 deg.
 MAX_SLOPE_DEG = 80.0
@@ -28,7 +30,7 @@ OUTLINE_SPACING_M = 5.0e-5
 PROFILE_KINDS = ("wheel", "rail")
 
 
-class ProfileError(ValueError):
+class ProfileError(InputError):
     """A profile that cannot be read or built (bad file, unknown name, not a graph)."""
 
 
