@@ -219,6 +219,7 @@ def equivalent_conicity(
     amplitudes_m: np.ndarray,
     step_m: float = 1.0e-4,
     method: str = "nonlinear",
+    out_of_range: str = "raise",
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Equivalent conicity of a wheelset on its rails for each amplitude.
 
@@ -242,4 +243,5 @@ def equivalent_conicity(
         except ContactSolveError:
             keep[i] = False
     y, dr = y[keep], dr[keep]
-    return equivalent_conicity_from_delta_r(y, dr, amps, method=method), y, dr
+    gamma = equivalent_conicity_from_delta_r(y, dr, amps, method=method, out_of_range=out_of_range)
+    return gamma, y, dr
