@@ -115,9 +115,7 @@ class ContactCheckSettings:
         for name in ("lateral_m", "conicity_amplitudes_m"):
             n = len(getattr(self, name))
             if not 1 <= n <= MAX_SWEEP_POINTS:
-                raise ContactParameterError(
-                    f"{name}: {n} values; expected 1 .. {MAX_SWEEP_POINTS}"
-                )
+                raise ContactParameterError(f"{name}: {n} values; expected 1 .. {MAX_SWEEP_POINTS}")
 
 
 @dataclass

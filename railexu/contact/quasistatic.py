@@ -315,9 +315,7 @@ def press_free_rolling(
     rate = None
     state = press_wheelset(model, lateral_m, yaw_rad, load_N, relative_tolerance=relative_tolerance)
     for _ in range(iterations):
-        rate = free_rolling_pitch_rate(
-            model, lateral_m, state.vertical_m, state.roll_rad, yaw_rad
-        )
+        rate = free_rolling_pitch_rate(model, lateral_m, state.vertical_m, state.roll_rad, yaw_rad)
         state = press_wheelset(
             model, lateral_m, yaw_rad, load_N, relative_tolerance=relative_tolerance,
             spin_rate_rad_per_s=rate,
