@@ -1,13 +1,14 @@
 """Quasi-static wheel/rail check: the public function behind ``railexu contact``.
 
 An engineer checks a wheel/rail pair before any dynamics: for a sweep of lateral displacements
-(with yaw proportional to it, as in the Manchester contact benchmark), each wheel is pressed
-onto its rail until it carries the given load, while the wheelset rolls forward at a speed and
-spins freely (the pitch rate at which the creep forces exert no pitch moment, as CONTACT sets up
-the benchmark) or, on request, at speed / nominal radius. A position where the wheelset cannot be
-pressed is reported with its status and a warning, and the sweep goes on. Every contact point is reported with its position on wheel and
-rail, rolling radius, contact angle, ellipse, creepages and creep forces; the rolling radius
-difference and the equivalent conicity follow from the rigid contact.
+(with yaw proportional to it, as in the Manchester contact benchmark), each wheel is pressed onto
+its rail until it carries the given load, while the wheelset rolls forward at a speed and spins
+freely (the pitch rate at which the creep forces exert no pitch moment, as CONTACT sets up the
+benchmark) or, on request, at speed / nominal radius. A position where the wheelset cannot be
+pressed is reported with its status and a warning, and the sweep goes on. Every contact point is
+reported with its position on wheel and rail, rolling radius, contact angle, ellipse, creepages and
+creep forces; the rolling radius difference and the equivalent conicity follow from the rigid
+contact.
 """
 
 from __future__ import annotations
