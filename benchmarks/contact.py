@@ -22,7 +22,9 @@ import numba
 import numpy as np
 
 from railexu.contact import kernel as K
+from railexu.contact.creep import spin_blend_weight
 from railexu.contact.evaluation import ContactParameters, WheelsetContactModel
+from railexu.contact.kalker import kalker_coefficients
 from railexu.contact.placement import symmetric_wheelset
 from railexu.contact.quasistatic import press_wheelset
 from railexu.contact.search import general_contact_search
@@ -91,6 +93,27 @@ def main(creep_model: str = "polach_fastsim") -> None:
     print(f"S1002 / UIC60 1:40, r0 = 0.625 m, V = 10 m/s, creep law {creep_model}, 50 kN/wheel")
     print(f"  compiled kernel, from compiled code: {best * 1e6:6.2f} us per wheelset evaluation")
     print(f"    (both wheels, ~{n_pts:.0f} loaded points in the last state; limit 10 us)")
+
+    weights = []
+    for st in states:
+        model.evaluate_raw(st, rails)
+        for side in (0, 1):
+            for k in range(K.MAX_POINTS):
+                row = model._points[side, k]
+                if row[K.PF_ACTIVE] and row[K.PF_N] > 0.0:
+                    a, b = row[K.PF_A], row[K.PF_B]
+                    c23 = kalker_coefficients(a / b, model.parameters.poisson)[2]
+                    weights.append(
+                        spin_blend_weight(
+                            row[K.PF_SPIN], row[K.PF_N], model.parameters.friction, a, b,
+                            model.parameters.shear_modulus_Pa, c23,
+                        )
+                    )  # fmt: skip
+    weights = np.asarray(weights)
+    print(
+        f"    loaded points in the {len(states)} states: {weights.size}; FASTSIM weight > 0 "
+        f"(polach_fastsim runs FASTSIM) at {np.mean(weights > 0) * 100:.0f} %"
+    )
 
     n = 20_000
     t0 = time.perf_counter()
