@@ -32,7 +32,7 @@ the profiles for comparison with Hertz (``docs/validation.md``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.special import ellipe, ellipk
@@ -40,7 +40,13 @@ from scipy.special import ellipe, ellipk
 from . import kernel as K
 from .evaluation import WheelsetContactModel
 
-__all__ = ["KP_EPSILON", "KikPiotrowskiPatch", "kik_piotrowski_patch", "wheel_point_patch"]
+__all__ = [
+    "KP_EPSILON",
+    "KikPiotrowskiPatch",
+    "kik_piotrowski_patch",
+    "patch_creep_forces",
+    "wheel_point_patch",
+]
 
 #: Ratio of virtual to real penetration (Piotrowski and Kik 2008).
 KP_EPSILON = 0.55
@@ -56,6 +62,9 @@ class KikPiotrowskiPatch:
         half_length_m: largest half-length along the rolling direction [m].
         lateral_extent_m: ``(lo, hi)`` of the patch across, relative to the first contact [m].
         area_m2: patch area [m^2].
+        strip_lateral_m: centres of the lateral cells, relative to the first contact [m].
+        strip_half_length_m: half-length ``x_f`` of each cell [m].
+        strip_width_m: width of the cells [m].
     """
 
     normal_force_N: float
@@ -63,6 +72,15 @@ class KikPiotrowskiPatch:
     half_length_m: float
     lateral_extent_m: tuple[float, float]
     area_m2: float
+    strip_lateral_m: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    strip_half_length_m: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    strip_width_m: float = 0.0
+
+    @property
+    def pressure_coefficient_Pa_per_m(self) -> float:
+        """``C`` of ``p = C sqrt(x_f^2 - x^2)`` [Pa/m]."""
+        i2 = float(np.sum(0.5 * math.pi * self.strip_half_length_m**2) * self.strip_width_m)
+        return self.normal_force_N / i2 if i2 > 0.0 else 0.0
 
 
 def kik_piotrowski_patch(
@@ -118,6 +136,9 @@ def kik_piotrowski_patch(
         half_length_m=float(np.max(xf)),
         lateral_extent_m=(float(loaded.min() - y_c), float(loaded.max() - y_c)),
         area_m2=float(np.sum(2.0 * xf) * dy),
+        strip_lateral_m=eta,
+        strip_half_length_m=xf,
+        strip_width_m=dy,
     )
 
 
@@ -174,3 +195,66 @@ def wheel_point_patch(
         c / (2.0 * radii),
         model.parameters.effective_modulus_Pa,
     )
+
+
+def patch_creep_forces(
+    patch: KikPiotrowskiPatch,
+    xi: float,
+    eta: float,
+    phi: float,
+    friction: float,
+    shear_modulus_Pa: float,
+    poisson: float,
+    n_strips: int = 40,
+    n_points: int = 40,
+) -> tuple[float, float, float]:
+    """Creep forces and spin moment on the wheel on a Kik-Piotrowski patch: FASTSIM on strips.
+
+    Kalker's simplified theory (Kalker, VSD 11 (1982) 1-13) marched along each strip of the
+    patch from its leading edge ``x = +x_f``, with the traction bound ``mu p(x, y)`` of the
+    patch's own (semi-elliptical along x) pressure; the flexibilities ``L1, L2, L3`` are those of
+    the ellipse with ``a = max x_f`` and ``b`` = half the patch width (the usual choice for
+    non-Hertzian FASTSIM). Spin turns about the point of first contact. Same signs as
+    :func:`railexu.contact.fastsim.fastsim_forces`.
+
+    Returns:
+        ``(Fx, Fy, Mz)`` on the wheel [N, N, N m].
+    """
+    from .kalker import kalker_coefficients
+
+    if patch.normal_force_N <= 0.0:
+        return 0.0, 0.0, 0.0
+    y_all, xf_all, dy_all = patch.strip_lateral_m, patch.strip_half_length_m, patch.strip_width_m
+    # coarsen the cells into n_strips strips of equal width (rms half-length keeps sum xf^2 dy)
+    groups = np.array_split(np.arange(y_all.size), min(n_strips, y_all.size))
+    y = np.array([y_all[g].mean() for g in groups])
+    xf = np.array([math.sqrt(np.mean(xf_all[g] ** 2)) for g in groups])
+    dy = np.array([dy_all * g.size for g in groups])
+    a = float(np.max(xf))
+    b = 0.5 * (patch.lateral_extent_m[1] - patch.lateral_extent_m[0])
+    c11, c22, c23 = kalker_coefficients(a / b, poisson)
+    g = shear_modulus_Pa
+    kx = xi * 3.0 * c11 * g / (8.0 * a)
+    ky = eta * 3.0 * c22 * g / (8.0 * a)
+    ks = phi * 4.0 * c23 * g / (math.pi * a * math.sqrt(a / b))
+    coef = friction * patch.pressure_coefficient_Pa_per_m
+    dx = 2.0 * xf / n_points
+    px = np.zeros_like(xf)
+    py = np.zeros_like(xf)
+    x_prev = xf.copy()
+    fx = fy = mz = 0.0
+    for i in range(n_points):
+        xc = xf - (i + 0.5) * dx
+        h = x_prev - xc
+        xm = 0.5 * (x_prev + xc)
+        px = px - h * (kx - ks * y)
+        py = py - h * (ky + ks * xm)
+        bound = coef * np.sqrt(np.maximum(xf * xf - xc * xc, 0.0))
+        mag = np.hypot(px, py)
+        scale = np.where(mag > bound, bound / np.where(mag > 0.0, mag, 1.0), 1.0)
+        px, py = px * scale, py * scale
+        fx += float(np.sum(px * dx * dy))
+        fy += float(np.sum(py * dx * dy))
+        mz += float(np.sum((xc * py - y * px) * dx * dy))
+        x_prev = xc
+    return fx, fy, mz
