@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 from scipy.special import ellipe, ellipk
 
@@ -170,19 +171,13 @@ def wheel_point_patch(
     winfo = model.winfo_r if right else model.winfo_l
     rtab = model.rtab_r if right else model.rtab_l
     rinfo = model.rinfo_r if right else model.rinfo_l
-    ctx = K._make_ctx(winfo, rinfo, m * lateral_m, vertical_m, m * roll_rad, m * yaw_rad)
     s_all = wheel_lateral_m + np.linspace(-half_width_m, half_width_m, 961)
-    gaps, ys, radii = [], [], []
-    for s in s_all:
-        f, f1, f2, ok = K._hermite(wtab, winfo[K.WI_S0], winfo[K.WI_STEP], int(winfo[K.WI_N]), s)
-        if not ok:
-            continue
-        g, _, py, _, _, _, _, ok = K._locus_gap(s, f, f1, f2, rtab, ctx)
-        if ok:
-            gaps.append(g)
-            ys.append(py)
-            radii.append(winfo[K.WI_R0] + f)
-    gaps, ys, radii = np.array(gaps), np.array(ys), np.array(radii)
+    gaps, ys, radii = np.empty(s_all.size), np.empty(s_all.size), np.empty(s_all.size)
+    n = _locus_profile(
+        wtab, winfo, rtab, rinfo, m * lateral_m, vertical_m, m * roll_rad, m * yaw_rad, s_all,
+        gaps, ys, radii,
+    )  # fmt: skip
+    gaps, ys, radii = gaps[:n], ys[:n], radii[:n]
     order = np.argsort(ys)
     gaps, ys, radii = gaps[order], ys[order], radii[order]
     c = abs(math.cos(contact_angle_rad))
@@ -226,10 +221,11 @@ def patch_creep_forces(
         return 0.0, 0.0, 0.0
     y_all, xf_all, dy_all = patch.strip_lateral_m, patch.strip_half_length_m, patch.strip_width_m
     # coarsen the cells into n_strips strips of equal width (rms half-length keeps sum xf^2 dy)
-    groups = np.array_split(np.arange(y_all.size), min(n_strips, y_all.size))
-    y = np.array([y_all[g].mean() for g in groups])
-    xf = np.array([math.sqrt(np.mean(xf_all[g] ** 2)) for g in groups])
-    dy = np.array([dy_all * g.size for g in groups])
+    bounds = np.linspace(0, y_all.size, min(n_strips, y_all.size) + 1).astype(np.int64)
+    counts = np.diff(bounds)
+    y = np.add.reduceat(y_all, bounds[:-1]) / counts
+    xf = np.sqrt(np.add.reduceat(xf_all**2, bounds[:-1]) / counts)
+    dy = dy_all * counts.astype(float)
     a = float(np.max(xf))
     b = 0.5 * (patch.lateral_extent_m[1] - patch.lateral_extent_m[0])
     c11, c22, c23 = kalker_coefficients(a / b, poisson)
@@ -238,23 +234,58 @@ def patch_creep_forces(
     ky = eta * 3.0 * c22 * g / (8.0 * a)
     ks = phi * 4.0 * c23 * g / (math.pi * a * math.sqrt(a / b))
     coef = friction * patch.pressure_coefficient_Pa_per_m
-    dx = 2.0 * xf / n_points
-    px = np.zeros_like(xf)
-    py = np.zeros_like(xf)
-    x_prev = xf.copy()
-    fx = fy = mz = 0.0
-    for i in range(n_points):
-        xc = xf - (i + 0.5) * dx
-        h = x_prev - xc
-        xm = 0.5 * (x_prev + xc)
-        px = px - h * (kx - ks * y)
-        py = py - h * (ky + ks * xm)
-        bound = coef * np.sqrt(np.maximum(xf * xf - xc * xc, 0.0))
-        mag = np.hypot(px, py)
-        scale = np.where(mag > bound, bound / np.where(mag > 0.0, mag, 1.0), 1.0)
-        px, py = px * scale, py * scale
-        fx += float(np.sum(px * dx * dy))
-        fy += float(np.sum(py * dx * dy))
-        mz += float(np.sum((xc * py - y * px) * dx * dy))
-        x_prev = xc
+    fx, fy, mz = _strip_fastsim(y, xf, dy, kx, ky, ks, coef, int(n_points))
+    return float(fx), float(fy), float(mz)
+
+
+@numba.njit(cache=True)
+def _strip_fastsim(y, xf, dy, kx, ky, ks, coef, n_points):
+    """FASTSIM march on strips of half-length ``xf`` with the bound ``coef sqrt(xf^2 - x^2)``."""
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    for j in range(y.size):
+        if xf[j] <= 0.0:
+            continue
+        dx = 2.0 * xf[j] / n_points
+        px = 0.0
+        py = 0.0
+        x_prev = xf[j]
+        for i in range(n_points):
+            xc = xf[j] - (i + 0.5) * dx
+            h = x_prev - xc
+            xm = 0.5 * (x_prev + xc)
+            px -= h * (kx - ks * y[j])
+            py -= h * (ky + ks * xm)
+            q = xf[j] * xf[j] - xc * xc
+            bound = coef * math.sqrt(q) if q > 0.0 else 0.0
+            mag2 = px * px + py * py
+            if mag2 > bound * bound:
+                scale = bound / math.sqrt(mag2)
+                px *= scale
+                py *= scale
+            w = dx * dy[j]
+            fx += px * w
+            fy += py * w
+            mz += (xc * py - y[j] * px) * w
+            x_prev = xc
     return fx, fy, mz
+
+
+@numba.njit(cache=True)
+def _locus_profile(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, s_all, gaps, ys, radii):
+    """Vertical gap, rail lateral position and rolling radius along the contact locus at the
+    wheel coordinates ``s_all`` (the kernel's geometry); returns how many are on both tables."""
+    ctx = K._make_ctx(winfo, rinfo, cy, cz, phi, psi)
+    n = 0
+    for s in s_all:
+        f, f1, f2, ok = K._hermite(wtab, winfo[K.WI_S0], winfo[K.WI_STEP], int(winfo[K.WI_N]), s)
+        if not ok:
+            continue
+        g, _, py, _, _, _, _, ok = K._locus_gap(s, f, f1, f2, rtab, ctx)
+        if ok:
+            gaps[n] = g
+            ys[n] = py
+            radii[n] = winfo[K.WI_R0] + f
+            n += 1
+    return n
