@@ -25,6 +25,7 @@ from railexu.contact import kernel as K
 from railexu.contact.creep import spin_blend_weight
 from railexu.contact.evaluation import ContactParameters, WheelsetContactModel
 from railexu.contact.kalker import kalker_coefficients
+from railexu.contact.kik_piotrowski import patch_creep_forces, wheel_point_patch
 from railexu.contact.placement import symmetric_wheelset
 from railexu.contact.quasistatic import press_wheelset
 from railexu.contact.search import general_contact_search
@@ -122,8 +123,32 @@ def main(creep_model: str = "polach_fastsim") -> None:
     dt = (time.perf_counter() - t0) / n
     print(f"  through the Python wrapper:          {dt * 1e6:6.2f} us per call")
 
-    pair = geometry.left
     st = states[0]
+    model.evaluate_raw(st, rails)
+    loaded = [p for p in model._result(model._force).points if p.loaded]
+
+    def kik_piotrowski_once() -> None:
+        for p in loaded:
+            kp = wheel_point_patch(
+                model, p.side, st[1], st[2], st[3], st[4], p.wheel_lateral_m, p.contact_angle_rad
+            )
+            patch_creep_forces(
+                kp, p.creep_long, p.creep_lat, p.spin_per_m, model.parameters.friction,
+                model.parameters.shear_modulus_Pa, model.parameters.poisson,
+            )  # fmt: skip
+
+    kik_piotrowski_once()
+    reps = 50
+    t0 = time.perf_counter()
+    for _ in range(reps):
+        kik_piotrowski_once()
+    dt = (time.perf_counter() - t0) / reps
+    print(
+        f"  Kik-Piotrowski patch + strip FASTSIM (Python level, {len(loaded)} points): "
+        f"{dt * 1e3:6.2f} ms per wheelset evaluation"
+    )
+
+    pair = geometry.left
     t0 = time.perf_counter()
     reps = 5
     for _ in range(reps):
