@@ -117,3 +117,18 @@ def test_asymmetric_wheel_radii_equilibrium_off_centre(tmp_path, capsys):
     # with the roll this asks for (measured 1.54 mm), so the equilibrium is at y < 0
     assert 0.001 < np.interp(0.0, dr[:, 0], dr[:, 1]) < 0.002
     assert dr[0, 0] < -0.004
+
+
+def test_kik_piotrowski_columns(tmp_path):
+    """--normal kik_piotrowski adds the non-Hertzian patch beside Hertz: at 3 mm (one tread
+    point per wheel) its normal force is within 7 % of the Hertz force it is pressed with (the
+    model's bias against exact theory is +5 %, tests/test_contact_kik_piotrowski.py)."""
+    out = tmp_path / "kp"
+    assert main(["contact", "--lateral", "0.003", "--amplitudes", "0.002", "--normal",
+                 "kik_piotrowski", "--out", str(out)]) == 0  # fmt: skip
+    with (out / "contact.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        kp = float(r["kp_normal_force_N"])
+        assert kp == pytest.approx(float(r["normal_force_N"]), rel=0.07)
+        assert float(r["kp_p_max_Pa"]) > 0.0 and float(r["kp_width_m"]) > 0.0

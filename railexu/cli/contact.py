@@ -62,6 +62,13 @@ def add_parser(sub) -> None:
     p.add_argument("--radius-left", type=float, default=None, help="left wheel radius [m]")
     p.add_argument("--radius-right", type=float, default=None, help="right wheel radius [m]")
     p.add_argument(
+        "--normal",
+        choices=("hertz", "kik_piotrowski"),
+        default="hertz",
+        help="hertz (default), or kik_piotrowski: its non-Hertzian patch and creep forces "
+        "reported beside Hertz at each pressed contact point (kp_* columns)",
+    )
+    p.add_argument(
         "--rolling",
         choices=("free", "nominal"),
         default="free",
@@ -119,6 +126,7 @@ def command(args: argparse.Namespace) -> int:
         radius_m=radius_left,
         radius_right_m=None if radius_right == radius_left else radius_right,
         rolling=args.rolling,
+        normal_model=args.normal,
         lateral_m=lateral,
         yaw_per_lateral_rad_per_m=args.yaw_per_lateral,
         load_N=args.load,

@@ -22,12 +22,28 @@ from .conicity import equivalent_conicity
 from .creep import spin_moment
 from .evaluation import ContactParameters, ContactPoint, WheelsetContactModel
 from .kalker import kalker_coefficients
+from .kik_piotrowski import patch_creep_forces, wheel_point_patch
 from .parameters import ContactParameterError
 from .placement import wheelset_geometry
 from .quasistatic import ContactSolveError, PressedWheelset, press_free_rolling, press_wheelset
 
 #: Rolling conditions of :func:`contact_check`.
 ROLLING_MODES = ("free", "nominal")
+
+#: Normal contact models of :func:`contact_check`: ``hertz`` (the kernel's), or
+#: ``kik_piotrowski`` reported beside it at the same pose and approach.
+CHECK_NORMAL_MODELS = ("hertz", "kik_piotrowski")
+
+#: Extra ``contact.csv`` columns with ``normal_model = "kik_piotrowski"``.
+KP_COLUMNS = (
+    "kp_normal_force_N",
+    "kp_p_max_Pa",
+    "kp_length_m",
+    "kp_width_m",
+    "kp_force_long_N",
+    "kp_force_lat_N",
+    "kp_spin_moment_Nm",
+)
 
 #: Largest number of lateral positions or amplitudes a check accepts.
 MAX_SWEEP_POINTS = 10001
@@ -82,6 +98,10 @@ class ContactCheckSettings:
         radius_m: nominal rolling radius [m] (the left wheel's when ``radius_right_m`` is set).
         radius_right_m: nominal rolling radius of the right wheel [m], if it differs.
         rolling: ``"free"`` (default; zero pitch moment) or ``"nominal"`` (spin V / r0).
+        normal_model: ``"hertz"`` (default) or ``"kik_piotrowski"``: the wheelset is pressed
+            with the kernel's Hertz contacts, and each loaded point's Kik-Piotrowski patch (same
+            pose, same approach) and FASTSIM forces on it are reported beside
+            (:mod:`.kik_piotrowski`; ``KP_COLUMNS``).
         lateral_m: lateral displacements to evaluate [m].
         yaw_per_lateral_rad_per_m: yaw = factor * lateral [rad/m].
         load_N: vertical load of each wheel [N].
@@ -107,8 +127,14 @@ class ContactCheckSettings:
     wheel_right: str | None = None
     radius_right_m: float | None = None
     rolling: str = "free"
+    normal_model: str = "hertz"
 
     def __post_init__(self) -> None:
+        if self.normal_model not in CHECK_NORMAL_MODELS:
+            raise ContactParameterError(
+                f"normal model {self.normal_model!r}: expected one of "
+                f"{', '.join(CHECK_NORMAL_MODELS)}"
+            )
         if self.rolling not in ROLLING_MODES:
             raise ContactParameterError(
                 f"rolling {self.rolling!r}: expected one of {', '.join(ROLLING_MODES)}"
@@ -133,6 +159,13 @@ class ContactCheckResult:
     delta_r_m: np.ndarray
     pitch_rates_rad_per_s: list[float] = field(default_factory=list)
     failures: list[tuple[float, str]] = field(default_factory=list)
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The columns of ``contact.csv``."""
+        if self.settings.normal_model == "kik_piotrowski":
+            return CONTACT_COLUMNS + KP_COLUMNS
+        return CONTACT_COLUMNS
 
 
 def _geometry(settings: ContactCheckSettings):
@@ -187,6 +220,26 @@ def _point_row(p: ContactPoint, params: ContactParameters) -> dict:
     }
 
 
+def _kp_row(model, state: PressedWheelset, p: ContactPoint, params: ContactParameters) -> dict:
+    kp = wheel_point_patch(
+        model, p.side, state.lateral_m, state.vertical_m, state.roll_rad, state.yaw_rad,
+        p.wheel_lateral_m, p.contact_angle_rad,
+    )  # fmt: skip
+    fx, fy, mz = patch_creep_forces(
+        kp, p.creep_long, p.creep_lat, p.spin_per_m, params.friction, params.shear_modulus_Pa,
+        params.poisson,
+    )  # fmt: skip
+    return {
+        "kp_normal_force_N": kp.normal_force_N,
+        "kp_p_max_Pa": kp.p_max_Pa,
+        "kp_length_m": 2.0 * kp.half_length_m,
+        "kp_width_m": kp.lateral_extent_m[1] - kp.lateral_extent_m[0],
+        "kp_force_long_N": fx,
+        "kp_force_lat_N": fy,
+        "kp_spin_moment_Nm": mz,
+    }
+
+
 def contact_check(settings: ContactCheckSettings) -> ContactCheckResult:
     """Run the quasi-static check: press the wheelset at each lateral displacement, report.
 
@@ -218,7 +271,7 @@ def contact_check(settings: ContactCheckSettings) -> ContactCheckResult:
                 stacklevel=2,
             )
             failures.append((float(y), message))
-            row = dict.fromkeys(CONTACT_COLUMNS, float("nan"))
+            row = dict.fromkeys(CONTACT_COLUMNS + KP_COLUMNS, float("nan"))
             row.update(lateral_m=float(y), yaw_rad=float(yaw), side="", point=0)
             row["status"] = f"failed: {message}"
             rows.append(row)
@@ -235,6 +288,8 @@ def contact_check(settings: ContactCheckSettings) -> ContactCheckResult:
                 "vertical_m": state.vertical_m,
             }
             row.update(_point_row(p, settings.contact))
+            if settings.normal_model == "kik_piotrowski":
+                row.update(_kp_row(model, state, p, settings.contact))
             row["pitch_rate_rad_per_s"] = rate
             row["status"] = "ok"
             rows.append(row)
