@@ -22,7 +22,7 @@ import numba
 import numpy as np
 
 from railexu.contact import kernel as K
-from railexu.contact.creep import spin_blend_weight
+from railexu.contact.creep import creep_forces_nb, spin_blend_weight
 from railexu.contact.evaluation import ContactParameters, WheelsetContactModel
 from railexu.contact.kalker import kalker_coefficients
 from railexu.contact.kik_piotrowski import patch_creep_forces, wheel_point_patch
@@ -41,6 +41,37 @@ def _loop(n, model_arrays, params, states, rails, points, force):
                            rails, points, force)  # fmt: skip
         acc += force[1]
     return acc
+
+
+@numba.njit(cache=True)
+def _creep_loop(n, code, phi):
+    acc = 0.0
+    for i in range(n):
+        _, fy = creep_forces_nb(
+            code, 1e-3 + 1e-9 * i, 2e-3, phi, 50000.0, 0.006, 0.005, 82e9, 4.3, 3.8, 1.6, 0.3,
+            1.0, 1.0, 1.0, 0.0, 10.0,
+        )  # fmt: skip
+        acc += fy
+    return acc
+
+
+def per_point_costs() -> None:
+    """Cost of one creep-law call: Polach, and FASTSIM as the default runs it at large spin."""
+    cases = (
+        (1, 0.1, "polach"),
+        (4, 0.1, "polach_fastsim at small spin (Polach)"),
+        (4, 3.0, "polach_fastsim at large spin (FASTSIM 10 x 10)"),
+        (3, 3.0, "fastsim (20 x 20)"),
+    )
+    print("per contact point (a = 6 mm, b = 5 mm, 50 kN):")
+    for code, phi, label in cases:
+        _creep_loop(10, code, phi)
+        best = np.inf
+        for _ in range(5):
+            t0 = time.perf_counter()
+            _creep_loop(200_000, code, phi)
+            best = min(best, (time.perf_counter() - t0) / 200_000)
+        print(f"  {label:<48s} {best * 1e6:7.3f} us")
 
 
 def _states(model: WheelsetContactModel, speed: float, r0: float) -> np.ndarray:
@@ -160,5 +191,6 @@ def main(creep_model: str = "polach_fastsim") -> None:
 if __name__ == "__main__":
     import sys
 
+    per_point_costs()
     for name in sys.argv[1:] or ["polach_fastsim"]:
         main(name)
