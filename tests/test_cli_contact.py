@@ -106,6 +106,9 @@ def test_asymmetric_wheel_radii_equilibrium_off_centre(tmp_path, capsys):
         "--amplitudes", "0.002:0.004:0.001", "--out", str(out),
     ])  # fmt: skip
     assert status == 0
+    printed = capsys.readouterr().out
+    y_eq = float(printed.split("equilibrium lateral position (Delta r = 0): ")[1].split()[0])
+    assert y_eq < -0.5  # mm: the larger left wheel pulls the equilibrium to the right (y < 0)
     with (out / "contact.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert {"pitch_rate_rad_per_s", "spin_moment_Nm", "status"} <= set(rows[0])

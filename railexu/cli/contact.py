@@ -147,6 +147,9 @@ def command(args: argparse.Namespace) -> int:
         f"railexu contact: {len(result.pressed)} lateral positions, {n_points} loaded "
         f"contact points ({n_two} wheel states with two-point contact), {args.rolling} rolling"
     )
+    print(
+        f"  equilibrium lateral position (Delta r = 0): {result.equilibrium_lateral_m * 1e3:.3f} mm"
+    )
     for y, message in result.failures:
         print(f"  warning: lateral position {y * 1e3:.3f} mm failed: {message}")
     for a, c in zip(result.conicity_amplitude_m, result.conicity, strict=True):

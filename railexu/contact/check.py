@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .conicity import equivalent_conicity
+from .conicity import ConicityError, equilibrium_lateral, equivalent_conicity
 from .creep import spin_moment
 from .evaluation import ContactParameters, ContactPoint, WheelsetContactModel
 from .kalker import kalker_coefficients
@@ -159,6 +159,7 @@ class ContactCheckResult:
     delta_r_m: np.ndarray
     pitch_rates_rad_per_s: list[float] = field(default_factory=list)
     failures: list[tuple[float, str]] = field(default_factory=list)
+    equilibrium_lateral_m: float = float("nan")
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -296,8 +297,12 @@ def contact_check(settings: ContactCheckSettings) -> ContactCheckResult:
     _renumber(rows)
     amps = np.asarray(settings.conicity_amplitudes_m, dtype=float)
     conicity, y_dr, dr = equivalent_conicity(model, amps, out_of_range="nan")
+    try:
+        y_eq = equilibrium_lateral(model)
+    except ConicityError:
+        y_eq = float("nan")
     return ContactCheckResult(
-        settings, model, pressed, rows, amps, conicity, y_dr, dr, rates, failures
+        settings, model, pressed, rows, amps, conicity, y_dr, dr, rates, failures, y_eq
     )
 
 
