@@ -87,3 +87,51 @@ def test_parse_range():
         parse_range("0:1")
     with pytest.raises(CliError):
         parse_range("a:b:c")
+
+
+def test_absurd_sweep_is_refused_before_allocating(tmp_path, capsys):
+    """0:1:1e-18 would be 1e18 positions: refused at once with a clear message."""
+    status = main(["contact", "--lateral", "0:1:1e-18", "--out", str(tmp_path / "x")])
+    assert status == 2
+    assert "at most" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
+
+
+def test_asymmetric_wheel_radii_equilibrium_off_centre(tmp_path, capsys):
+    """Wheels of 920 and 918 mm (EN 15302's E5-E8 set-up): Delta r = 0 is off the track centre,
+    the conicity is computed about it, and contact.csv has the pitch rate and spin moment."""
+    out = tmp_path / "asym"
+    status = main([
+        "contact", "--radius-left", "0.46", "--radius-right", "0.459", "--lateral", "0:0.002:0.001",
+        "--amplitudes", "0.002:0.004:0.001", "--out", str(out),
+    ])  # fmt: skip
+    assert status == 0
+    printed = capsys.readouterr().out
+    y_eq = float(printed.split("equilibrium lateral position (Delta r = 0): ")[1].split()[0])
+    assert y_eq < -0.5  # mm: the larger left wheel pulls the equilibrium to the right (y < 0)
+    with (out / "contact.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"pitch_rate_rad_per_s", "spin_moment_Nm", "status"} <= set(rows[0])
+    assert all(r["status"] == "ok" for r in rows)
+    conicity = np.loadtxt(out / "conicity.csv", delimiter=",", skiprows=1)
+    assert np.all(np.isfinite(conicity[:, 1])) and np.all(conicity[:, 1] > 0.0)
+    dr = np.loadtxt(out / "delta_r.csv", delimiter=",", skiprows=1)
+    # the left wheel is 1 mm larger: Delta r(0) = 1 mm plus the change of the contact points
+    # with the roll this asks for (measured 1.54 mm), so the equilibrium is at y < 0
+    assert 0.001 < np.interp(0.0, dr[:, 0], dr[:, 1]) < 0.002
+    assert dr[0, 0] < -0.004
+
+
+def test_kik_piotrowski_columns(tmp_path):
+    """--normal kik_piotrowski adds the non-Hertzian patch beside Hertz: at 3 mm (one tread
+    point per wheel) its normal force is within 7 % of the Hertz force it is pressed with (the
+    model's bias against exact theory is +5 %, tests/test_contact_kik_piotrowski.py)."""
+    out = tmp_path / "kp"
+    assert main(["contact", "--lateral", "0.003", "--amplitudes", "0.002", "--normal",
+                 "kik_piotrowski", "--out", str(out)]) == 0  # fmt: skip
+    with (out / "contact.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:
+        kp = float(r["kp_normal_force_N"])
+        assert kp == pytest.approx(float(r["normal_force_N"]), rel=0.07)
+        assert float(r["kp_p_max_Pa"]) > 0.0 and float(r["kp_width_m"]) > 0.0

@@ -2,7 +2,7 @@
 
 Reference: ``tests/data/contact_mbench_reference.csv``, transcribed from CONTACT's published
 example output (see ``tests/data/README.md`` for source, licence and sign conventions). CONTACT
-solves the exact non-Hertzian half-space problem; railexu uses Hertz ellipses and Polach's law,
+solves the exact non-Hertzian half-space problem; railexu uses Hertz ellipses and its default law,
 so geometry and kinematics must agree closely and forces within the spread expected between
 Hertz/Polach and an exact theory (about 10 %).
 """
@@ -110,6 +110,11 @@ def test_contact_point_kinematics_and_forces_match_contact(model, row):
     # so its tolerance also scales with the normal force.
     f = res.wheel_force_N(side)
     fn_ref = float(row["fn_N"])
-    assert f[2] == pytest.approx(float(row["fz_tr_N"]), rel=0.06)
+    # vertical force: 7 %. In flange contact (d ~ -1.16 rad) fz = N cos d + Fs sin d carries the
+    # lateral creep force almost fully; the flange patches are in full slip, where the split of
+    # mu N between Fx and Fs follows the spin: the default law (FASTSIM there, spin ratio > 0.6)
+    # puts 8-10 % more of it laterally than CONTACT's exact theory (Polach alone put 13-19 %
+    # less), which moves fz by up to 6.0 % (Polach: -5.6 %).
+    assert f[2] == pytest.approx(float(row["fz_tr_N"]), rel=0.07)
     assert f[1] == pytest.approx(float(row["fy_tr_N"]), rel=0.12, abs=0.05 * fn_ref)
     assert p.normal_force_N == pytest.approx(fn_ref, rel=0.15)

@@ -33,7 +33,7 @@ CASES = [(0.0, 0.0, 0.0), (1e-4, 0.0, 0.0), (2e-3, -1e-3, 0.3), (0.0, 0.0, 1.5),
 
 
 def test_codes_in_order():
-    assert CREEP_MODELS == ("kalker_linear", "polach", "polach_2005", "fastsim")
+    assert CREEP_MODELS == ("kalker_linear", "polach", "polach_2005", "fastsim", "polach_fastsim")
     for k, name in enumerate(CREEP_MODELS):
         assert creep_model_code(name) == k
         assert creep_model_name(k) == name
@@ -64,7 +64,7 @@ def test_unknown_name_without_close_match_lists_valid_names():
     with pytest.raises(UnknownCreepModelError, match="Valid creep models: kalker_linear, polach"):
         creep_model_code("hertz")
     with pytest.raises(UnknownCreepModelError):
-        creep_model_name(4)
+        creep_model_name(5)
     with pytest.raises(UnknownCreepModelError):
         creep_model_code(1)  # type: ignore[arg-type]
 
@@ -146,3 +146,27 @@ def test_all_laws_tend_to_kalker():
         0.5 * (p.k_a + p.k_s) * ref,
         rtol=1e-6,
     )
+
+
+def test_input_errors_are_railexu_input_errors():
+    """Bad names are input errors (the command line turns them into a short message)."""
+    from railexu.contact.parameters import ContactParameterError, ContactParameters
+    from railexu.errors import InputError
+
+    with pytest.raises(InputError):
+        creep_model_code("polak")
+    with pytest.raises(ContactParameterError):
+        ContactParameters(friction=-1.0)
+
+
+def test_parameters_module_does_not_import_numba():
+    """Vehicle files import ContactParameters: it must not pull in the compiled layer."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; import railexu.contact.parameters as p; p.ContactParameters(); "
+        "print('numba' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -25,7 +25,6 @@ LAYERS: dict[str, int] = {
     "railexu.errors": 0,
     "railexu.units": 0,
     "railexu.version": 0,
-    "railexu._roots": 0,
     "railexu.inputs": 1,
     "railexu.schema": 1,
     "railexu.catalog": 1,

@@ -671,8 +671,76 @@ def test_registry_paths(tmp_path):
     with pytest.raises(ProfileError, match=r"head\.prr: this is a rail profile, expected a wheel"):
         wheel_profile(path)
     txt = tmp_path / "cone.txt"
-    txt.write_text("".join(f"{s} {-0.05 * s}\n" for s in range(-60, 61, 5)))
-    w = wheel_profile(txt)  # text, mm by default
+    declaration = (
+        "# railexu profile: wheel, unit = mm, lateral = outwards, height = radius_increase, "
+        "flange_back = -60\n"
+    )
+    txt.write_text(declaration + "".join(f"{s} {-0.05 * s}\n" for s in range(-60, 61, 5)))
+    w = wheel_profile(txt)  # text declaring its conventions
     assert np.allclose(w.slope(np.linspace(-0.05, 0.05, 11)), -0.05, atol=1e-12)
     with pytest.raises(ProfileError, match="does not exist"):
         rail_profile(tmp_path / "missing.prr")
+
+
+# ---------------------------------------------------------------------------------------------
+# Text profiles declare their conventions
+# ---------------------------------------------------------------------------------------------
+
+
+def _s1002_text(flip_lateral=False, flip_height=False, declaration=""):
+    s = np.arange(-69.5, 60.0001, 0.5)
+    f = s1002_analytic(s)
+    a = -s if flip_lateral else s
+    b = -f if flip_height else f
+    return declaration + "".join(f"{x:.9f} {z:.9f}\n" for x, z in zip(a, b, strict=True))
+
+
+def test_text_wheel_with_flange_on_the_field_side_is_refused(tmp_path):
+    """A mirrored S1002 read as it is would have its flange at +y: refused, saying so (such a
+    file used to be accepted and gave an equivalent conicity of 0.003)."""
+    path = tmp_path / "mirrored.txt"
+    path.write_text(_s1002_text(flip_lateral=True))
+    with pytest.raises(ProfileError, match="on the field side.*flip_lateral"):
+        read_xy_profile(path, "wheel")
+    # read with the flip it is S1002 again (0.5 mm points: cubic spline within 5 um)
+    p = read_xy_profile(path, "wheel", flip_lateral=True)
+    y = np.linspace(-0.05, 0.05, 101)
+    assert np.max(np.abs(p.height(y) - s1002().height(y))) < 5e-6
+
+
+def test_text_wheel_with_heights_of_the_wrong_sign_is_refused(tmp_path):
+    path = tmp_path / "z_down.txt"
+    path.write_text(_s1002_text(flip_height=True))
+    with pytest.raises(ProfileError, match="wrong sign.*flip_height"):
+        read_xy_profile(path, "wheel")
+
+
+def test_registry_text_profile_needs_its_declaration(tmp_path):
+    path = tmp_path / "s1002.txt"
+    path.write_text(_s1002_text())
+    with pytest.raises(ProfileError, match="no '# railexu profile:' line"):
+        wheel_profile(path)
+    path.write_text(_s1002_text(declaration="# railexu profile: wheel, unit = mm\n"))
+    with pytest.raises(ProfileError, match="line 1: missing lateral, height, flange_back"):
+        wheel_profile(path)
+    decl = (
+        "# railexu profile: wheel, unit = mm, lateral = inwards, height = radius_decrease, "
+        "flange_back = 70\n"
+    )
+    path.write_text(_s1002_text(flip_lateral=True, flip_height=True, declaration=decl))
+    p = wheel_profile(path)
+    assert p.flange_back_m == pytest.approx(-0.070)
+    y = np.linspace(-0.05, 0.05, 101)
+    assert np.max(np.abs(p.height(y) - s1002().height(y))) < 5e-6
+
+
+def test_registry_text_rail_declares_its_cant(tmp_path):
+    pts = _round_head_points()
+    path = tmp_path / "head.txt"
+    decl = "# railexu profile: rail, unit = mm, lateral = outwards, height = down, canted = 1:40\n"
+    path.write_text(decl + "".join(f"{a:.12g} {b:.12g}\n" for a, b in pts))
+    r = rail_profile(path)
+    assert r.inclination_rad == pytest.approx(np.arctan(1 / 40), rel=1e-12)
+    path.write_text(decl.replace("1:40", "maybe") + "".join(f"{a} {b}\n" for a, b in pts))
+    with pytest.raises(ProfileError, match="canted = 'maybe'"):
+        rail_profile(path)

@@ -8,132 +8,19 @@ and velocity, returning every contact point with its geometry, creepages and for
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
 from . import kernel as K
-from .creep import creep_model_code
 from .hertz import hertz_table
 from .kalker import kalker_table_for_poisson
+from .parameters import (  # noqa: F401 (re-exported: the old import path)
+    DAMPING_MODELS,
+    ContactParameterError,
+    ContactParameters,
+)
 from .placement import WheelRailPair, WheelsetGeometry
-
-#: Damping laws of the normal force, selected by name.
-DAMPING_MODELS = {
-    # seed eq. (2): N = K delta^1.5 + D delta_dot, D in N s/m
-    "linear": 0,
-    # Hunt-Crossley: N = K delta^1.5 (1 + chi delta_dot), chi in s/m
-    "hunt_crossley": 1,
-}
-
-
-class ContactParameterError(InputError):
-    """Invalid contact parameters."""
-
-
-def _choice(kind: str, name: str, valid) -> str:
-    if name in valid:
-        return name
-    close = difflib.get_close_matches(name, list(valid), n=1)
-    hint = f" Did you mean {close[0]!r}?" if close else ""
-    raise ContactParameterError(f"unknown {kind} {name!r}.{hint} Valid: {', '.join(sorted(valid))}")
-
-
-@dataclass(frozen=True)
-class ContactParameters:
-    """Material, friction, damping and creep-law settings of the wheel-rail contact.
-
-    Attributes:
-        shear_modulus_Pa: combined shear modulus G of wheel and rail steel [Pa].
-        poisson: Poisson's ratio of both bodies [-].
-        friction: friction coefficient mu (mu0 of Polach 2005) [-].
-        creep_model: ``"polach"`` (1999, with spin), ``"polach_2005"`` (falling friction),
-            ``"kalker_linear"`` or ``"fastsim"``.
-        polach_2005: ``(k_a, k_s, A, B)`` of Polach 2005 (B in s/m); dry rail by default
-            (Polach 2005, Table 2).
-        damping_model: ``"hunt_crossley"`` (default): the seed's eq. (2) with the hysteresis
-            damping ``D = chi K delta^1.5``, i.e. ``N = K d^1.5 (1 + chi d_dot)``, which starts
-            from zero at first touch and dissipates the energy of the impact; or ``"linear"``,
-            ``N = K d^1.5 + D d_dot`` with a constant D, which jumps to ``D d_dot`` at first
-            touch (a discontinuity Newton's method dislikes).
-        damping: chi [s/m] for ``hunt_crossley`` (default 3 s/m: about 10 % of critical damping
-            for a wheel of ~2 t on its Hertz contact at 100 kN), D [N s/m] for ``linear``.
-        scan_step_m: step of the coarse scan for contact points along the wheel profile [m].
-        curvature_smoothing_m: width (standard deviation of a Gaussian) over which the profiles'
-            lateral curvature is averaged for Hertz's ellipse [m]. A contact patch is several mm
-            wide on the tread (0.4 mm at a flange), so the curvature at one point, which jumps
-            where two arcs of a profile meet, would make the normal stiffness jump as the point
-            crosses the junction; averaged over 0.5 mm it varies continuously and the flange's
-            narrow ellipse is kept (the Manchester comparison holds from 0.3 to 0.5 mm). The
-            geometry itself (gap, contact angle) is not smoothed.
-        tangential: compute creep forces (False: normal forces only).
-    """
-
-    shear_modulus_Pa: float = 82.0e9
-    poisson: float = 0.28
-    friction: float = 0.3
-    creep_model: str = "polach"
-    polach_2005: tuple[float, float, float, float] = (1.0, 0.4, 0.4, 0.6)
-    damping_model: str = "hunt_crossley"
-    damping: float = 3.0
-    scan_step_m: float = 1.0e-3
-    curvature_smoothing_m: float = 5.0e-4
-    tangential: bool = True
-
-    def __post_init__(self) -> None:
-        if not self.shear_modulus_Pa > 0:
-            raise ContactParameterError(
-                f"shear modulus must be > 0 Pa, got {self.shear_modulus_Pa}"
-            )
-        if not 0.0 <= self.poisson < 0.5:
-            raise ContactParameterError(f"Poisson's ratio must be in [0, 0.5), got {self.poisson}")
-        if not self.friction >= 0.0:
-            raise ContactParameterError(f"friction must be >= 0, got {self.friction}")
-        if not self.damping >= 0.0:
-            raise ContactParameterError(f"contact damping must be >= 0, got {self.damping}")
-        if not 0.0 <= self.curvature_smoothing_m <= 5.0e-3:
-            raise ContactParameterError(
-                f"curvature smoothing must be within 0 .. 5 mm, got {self.curvature_smoothing_m} m"
-            )
-        if not 1.0e-5 <= self.scan_step_m <= 5.0e-3:
-            raise ContactParameterError(
-                f"scan step must be within 0.01 .. 5 mm, got {self.scan_step_m} m"
-            )
-        _choice("damping model", self.damping_model, DAMPING_MODELS)
-        creep_model_code(self.creep_model)  # raises with did-you-mean
-
-    @property
-    def young_modulus_Pa(self) -> float:
-        """Young's modulus E = 2 G (1 + nu) [Pa]."""
-        return 2.0 * self.shear_modulus_Pa * (1.0 + self.poisson)
-
-    @property
-    def effective_modulus_Pa(self) -> float:
-        """Hertz's E* for two bodies of the same steel: E / (2 (1 - nu^2)) = G / (1 - nu) [Pa]."""
-        return self.shear_modulus_Pa / (1.0 - self.poisson)
-
-    def kernel_vector(self, speed_m_per_s: float) -> np.ndarray:
-        """The parameter vector the compiled kernel reads (``kernel.P_*`` indices)."""
-        if not speed_m_per_s > 0.0:
-            raise ContactParameterError(f"rolling speed must be > 0 m/s, got {speed_m_per_s}")
-        p = np.zeros(K.N_PARAMS)
-        p[K.P_ESTAR] = self.effective_modulus_Pa
-        p[K.P_SHEAR] = self.shear_modulus_Pa
-        p[K.P_MU] = self.friction
-        k_a, k_s, fric_a, fric_b = self.polach_2005
-        if self.creep_model == "polach_2005":
-            p[K.P_KA], p[K.P_KS], p[K.P_FRIC_A], p[K.P_FRIC_B] = k_a, k_s, fric_a, fric_b
-        else:
-            p[K.P_KA], p[K.P_KS], p[K.P_FRIC_A], p[K.P_FRIC_B] = 1.0, 1.0, 1.0, 0.0
-        p[K.P_SPEED] = speed_m_per_s
-        p[K.P_DAMP_MODEL] = DAMPING_MODELS[self.damping_model]
-        p[K.P_DAMP] = self.damping
-        p[K.P_CREEP] = creep_model_code(self.creep_model)
-        p[K.P_SCAN] = self.scan_step_m
-        p[K.P_TANGENTIAL] = 1.0 if self.tangential else 0.0
-        return p
 
 
 def _smoothed(d2z: np.ndarray, step_m: float, width_m: float) -> np.ndarray:

@@ -52,7 +52,14 @@ import math
 
 import numba
 
-__all__ = ["FASTSIM_STRIPS", "FASTSIM_POINTS", "fastsim_forces", "fastsim_nb"]
+__all__ = [
+    "FASTSIM_STRIPS",
+    "FASTSIM_POINTS",
+    "fastsim_forces",
+    "fastsim_moment",
+    "fastsim_nb",
+    "fastsim3_nb",
+]
 
 #: Default discretisation of :func:`fastsim_forces` (Python API).
 FASTSIM_STRIPS = 50
@@ -61,6 +68,46 @@ FASTSIM_POINTS = 50
 
 @numba.njit(cache=True)
 def fastsim_nb(
+    xi: float,
+    eta: float,
+    phi: float,
+    Q: float,
+    mu: float,
+    a: float,
+    b: float,
+    G: float,
+    c11: float,
+    c22: float,
+    c23: float,
+    n_strips: int,
+    n_points: int,
+) -> tuple[float, float, float]:
+    """Compiled FASTSIM with the spin moment; scalars, no allocation. On the wheel [N, N m].
+
+    Same arguments as :func:`fastsim_nb`. The spin moment is the moment of the tractions about
+    the contact normal through the patch centre, ``Mz = int (x p_y - y p_x) dA`` (right-handed
+    contact frame ``t_x, t_y, n``).
+
+    Args:
+        xi, eta: longitudinal and lateral creepage [-].
+        phi: spin creepage [1/m].
+        Q: normal force [N] (``<= 0``: zero force).
+        mu: friction coefficient [-].
+        a, b: semi-axes, rolling direction and lateral [m].
+        G: shear modulus [Pa].
+        c11, c22, c23: Kalker coefficients [-] (they set the flexibilities, module doc).
+        n_strips: number of strips across the ellipse (>= 1).
+        n_points: number of cells along each strip (>= 1).
+
+    Returns:
+        ``(Fx, Fy)`` on the wheel in the contact frame [N].
+    """
+    fx, fy, _ = fastsim3_nb(xi, eta, phi, Q, mu, a, b, G, c11, c22, c23, n_strips, n_points)
+    return fx, fy
+
+
+@numba.njit(cache=True)
+def fastsim3_nb(
     xi: float,
     eta: float,
     phi: float,
@@ -89,10 +136,10 @@ def fastsim_nb(
         n_points: number of cells along each strip (>= 1).
 
     Returns:
-        ``(Fx, Fy)`` on the wheel in the contact frame [N].
+        ``(Fx, Fy, Mz)`` on the wheel in the contact frame [N, N, N m].
     """
     if not (Q > 0.0 and a > 0.0 and b > 0.0 and G > 0.0):
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0
     if n_strips < 1:
         n_strips = 1
     if n_points < 1:
@@ -108,6 +155,7 @@ def fastsim_nb(
     dy = 2.0 * b / n_strips
     fx = 0.0
     fy = 0.0
+    mz = 0.0
     for j in range(n_strips):
         y_lo = -b + j * dy
         y_hi = y_lo + dy
@@ -124,6 +172,7 @@ def fastsim_nb(
         x_prev = aj
         sx = 0.0
         sy = 0.0
+        sm = 0.0
         for i in range(n_points):
             xc = aj - (i + 0.5) * dx
             h = x_prev - xc
@@ -139,10 +188,12 @@ def fastsim_nb(
                 py *= scale
             sx += px
             sy += py
+            sm += xc * py - yc * px
             x_prev = xc
         fx += sx * dx
         fy += sy * dx
-    return fx * dy, fy * dy
+        mz += sm * dx
+    return fx * dy, fy * dy, mz * dy
 
 
 def fastsim_forces(
@@ -190,3 +241,32 @@ def fastsim_forces(
         float(c11), float(c22), float(c23), int(n_strips), int(n_points),
     )  # fmt: skip
     return float(fx), float(fy)
+
+
+def fastsim_moment(
+    xi: float,
+    eta: float,
+    phi: float,
+    Q: float,
+    mu: float,
+    a: float,
+    b: float,
+    G: float,
+    c11: float,
+    c22: float,
+    c23: float,
+    n_strips: int = FASTSIM_STRIPS,
+    n_points: int = FASTSIM_POINTS,
+) -> tuple[float, float, float]:
+    """FASTSIM forces and spin moment on the wheel ``(Fx, Fy, Mz)`` [N, N, N m].
+
+    Same arguments as :func:`fastsim_forces`; ``Mz`` is the moment of the tractions about the
+    contact normal through the ellipse centre (Kalker, VSD 11 (1982) 1-13).
+    """
+    if n_strips < 1 or n_points < 1:
+        raise ValueError("n_strips and n_points must be >= 1")
+    fx, fy, mz = fastsim3_nb(
+        float(xi), float(eta), float(phi), float(Q), float(mu), float(a), float(b), float(G),
+        float(c11), float(c22), float(c23), int(n_strips), int(n_points),
+    )  # fmt: skip
+    return float(fx), float(fy), float(mz)

@@ -55,9 +55,8 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1
-
-from .._roots import brent
 
 __all__ = [
     "HERTZ_BETA_MIN",
@@ -180,7 +179,7 @@ def solve_axis_ratio(curvature_ratio: float) -> float:
         return 1.0
     # beta(g) ~ g^2 (ln(4/g) - 1) for small g, so g > sqrt(beta)/10 for beta > 1e-300.
     lo = max(math.sqrt(beta) * 1e-3, 1e-300)
-    return float(brent(lambda g: _curvature_ratio(g) - beta, lo, 1.0, xtol=1e-300, rtol=1e-15))
+    return float(brentq(lambda g: _curvature_ratio(g) - beta, lo, 1.0, xtol=1e-300, rtol=1e-15))
 
 
 def _clamp_curvatures(A: float, B: float) -> tuple[float, float]:

@@ -42,6 +42,22 @@ import numpy as np
 from .creep import creep_forces_nb
 from .hertz import hertz_coefficients_nb
 from .kalker import kalker_coefficients_nb
+from .parameters import (  # noqa: F401 (P_*, N_PARAMS re-exported for kernel users)
+    N_PARAMS,
+    P_CREEP,
+    P_DAMP,
+    P_DAMP_MODEL,
+    P_ESTAR,
+    P_FRIC_A,
+    P_FRIC_B,
+    P_KA,
+    P_KS,
+    P_MU,
+    P_SCAN,
+    P_SHEAR,
+    P_SPEED,
+    P_TANGENTIAL,
+)
 
 #: Most contact points searched per wheel.
 MAX_POINTS = 3
@@ -78,21 +94,7 @@ PF_NZ = 27
 PF_WEIGHT = 28  # weight of a minimum inside a shared overlap region (candidate_weights)
 N_POINT_FIELDS = 29
 
-# Entries of the parameter vector ``params``.
-P_ESTAR = 0  # effective modulus E* [Pa]
-P_SHEAR = 1  # combined shear modulus G [Pa]
-P_MU = 2  # friction coefficient (mu0 for Polach 2005)
-P_KA = 3  # Polach 2005 reduction factors
-P_KS = 4
-P_FRIC_A = 5  # Polach 2005 friction ratio mu_inf / mu0
-P_FRIC_B = 6  # Polach 2005 exponential friction decrease [s/m]
-P_SPEED = 7  # rolling (forward) speed V [m/s]
-P_DAMP_MODEL = 8  # 0: N = K d^1.5 + D d_dot ; 1: Hunt-Crossley N = K d^1.5 (1 + chi d_dot)
-P_DAMP = 9  # D [N s/m] or chi [s/m]
-P_CREEP = 10  # creep model code (railexu.contact.creep)
-P_SCAN = 11  # scan step along the wheel profile [m]
-P_TANGENTIAL = 12  # 1.0: compute creep forces, 0.0: normal forces only
-N_PARAMS = 13
+# Entries of the parameter vector ``params``: P_* in railexu.contact.parameters (numba-free).
 
 # Columns of ``wheel_info`` / ``rail_info``.
 WI_S0, WI_STEP, WI_N, WI_R0, WI_TAPE = 0, 1, 2, 3, 4

@@ -238,3 +238,42 @@ def symmetric_wheelset(
     :func:`place_wheel_rail` for the arguments."""
     pair = place_wheel_rail(wheel, rail, **kwargs)
     return WheelsetGeometry(left=pair, right=pair)
+
+
+def wheelset_geometry(
+    wheel: Profile | str | dict,
+    rail: Profile | str | dict,
+    *,
+    nominal_radius_m: float | dict,
+    **kwargs,
+) -> WheelsetGeometry:
+    """A wheelset whose wheels (profile, radius) and rails may differ left and right.
+
+    ``wheel``, ``rail`` and ``nominal_radius_m`` are each one value for both sides or a mapping
+    ``{"left": ..., "right": ...}`` (a vehicle file's ``wheel_profile: {left:, right:}``,
+    ``nominal_radius: {left:, right:}``); the other arguments are those of
+    :func:`place_wheel_rail` and apply to both sides. Each side is placed in its own left-type
+    frame, so the right wheel's profile is given as a normal (left-type) wheel profile too.
+
+    Raises:
+        PlacementError: a mapping without exactly the keys ``left`` and ``right``.
+    """
+
+    def side(value, name: str):
+        if isinstance(value, dict):
+            if set(value) != {"left", "right"}:
+                raise PlacementError(
+                    f"{name}: a per-wheel value needs exactly the keys 'left' and 'right', "
+                    f"got {sorted(value)}"
+                )
+            return value["left"], value["right"]
+        return value, value
+
+    wl, wr = side(wheel, "wheel profile")
+    rl, rr = side(rail, "rail profile")
+    r0l, r0r = side(nominal_radius_m, "nominal radius")
+    left = place_wheel_rail(wl, rl, nominal_radius_m=float(r0l), **kwargs)
+    if wl is wr and rl is rr and r0l == r0r:
+        return WheelsetGeometry(left=left, right=left)
+    right = place_wheel_rail(wr, rr, nominal_radius_m=float(r0r), **kwargs)
+    return WheelsetGeometry(left=left, right=right)

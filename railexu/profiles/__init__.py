@@ -118,7 +118,7 @@ from .core import (
     ProfileError,
     SampledProfile,
 )
-from .readers import read_simpack_profile, read_xy_profile
+from .readers import read_declared_text_profile, read_simpack_profile, read_xy_profile
 from .registry import (
     BUILTIN_RAILS,
     BUILTIN_WHEELS,
@@ -149,6 +149,7 @@ __all__ = [
     "rail_60e1",
     "rail_60e1_geometry_mm",
     "rail_profile",
+    "read_declared_text_profile",
     "read_simpack_profile",
     "read_xy_profile",
     "round_rail",

@@ -430,6 +430,8 @@ def read_xy_profile(
     data = np.asarray(rows, dtype=np.float64) * factors[unit]
     lateral = -data[:, 0] if flip_lateral else data[:, 0]
     height = -data[:, 1] if flip_height else data[:, 1]
+    if kind == "wheel":
+        _check_wheel_orientation(lateral, height, np.asarray(line_no), path)
     return _profile_from_points(
         lateral,
         height,
@@ -441,3 +443,138 @@ def read_xy_profile(
         flange_back_m=flange_back_m,
         inclination_rad=float(inclination_rad),
     )
+
+
+#: A wheel profile whose largest radius increase reaches this is taken to have a flange [m].
+FLANGE_MIN_HEIGHT_M = 0.010
+
+
+def _check_wheel_orientation(
+    lateral: np.ndarray, height: np.ndarray, lines: np.ndarray, path: str | os.PathLike
+) -> None:
+    """Refuse a wheel whose flange is on the field side or whose heights have the wrong sign.
+
+    In railexu's axes (docs/conventions.md) the flange is a radius *increase* (positive, some
+    25-35 mm) on the *inner* side (negative lateral coordinate). A profile without a flange of
+    at least :data:`FLANGE_MIN_HEIGHT_M` (a cone, a worn-flat test shape) is not checked.
+    """
+    i_max, i_min = int(np.argmax(height)), int(np.argmin(height))
+    if height[i_max] >= FLANGE_MIN_HEIGHT_M:
+        if lateral[i_max] > 0.0:
+            raise _err(
+                path,
+                int(lines[i_max]),
+                f"the flange (largest radius increase, {height[i_max] * 1e3:.1f} mm) is at "
+                f"lateral {lateral[i_max] * 1e3:+.1f} mm, on the field side: railexu expects the "
+                "lateral coordinate to point outwards (flange at negative lateral); the file has "
+                "the flange on the other side (read it with flip_lateral)",
+            )
+    elif height[i_min] <= -FLANGE_MIN_HEIGHT_M:
+        raise _err(
+            path,
+            int(lines[i_min]),
+            f"the heights have the wrong sign: the largest deviation is a radius decrease of "
+            f"{-height[i_min] * 1e3:.1f} mm, where the flange (a radius increase) is expected; "
+            "railexu expects the radius increase, flange positive (read it with flip_height)",
+        )
+
+
+#: Keys of a text profile's declaration line ``# railexu profile: wheel, unit = mm, ...``.
+DECLARATION_KEYS = {
+    "wheel": ("unit", "lateral", "height", "flange_back"),
+    "rail": ("unit", "lateral", "height", "canted"),
+}
+
+_DECLARATION_HELP = (
+    "a text profile must declare its conventions in a comment line, e.g. "
+    "'# railexu profile: wheel, unit = mm, lateral = outwards, height = radius_increase, "
+    "flange_back = -70' or '# railexu profile: rail, unit = mm, lateral = outwards, "
+    "height = up, canted = none' (lateral: outwards|inwards; wheel height: "
+    "radius_increase|radius_decrease; rail height: up|down; flange_back in the file's unit; "
+    "canted: none, 1:40, 1:20 or an angle in rad)"
+)
+
+
+def read_declared_text_profile(path: str | os.PathLike, kind: str) -> Profile:
+    """Read a two-column text profile that declares its conventions (the registry's reader).
+
+    The file must hold one comment line ``# railexu profile: KIND, key = value, ...`` with
+    ``unit`` (mm, m), ``lateral`` (outwards: positive towards the field side, railexu's axes;
+    or inwards), ``height`` (wheel: ``radius_increase`` or ``radius_decrease``; rail: ``up`` or
+    ``down``), and for a wheel ``flange_back`` (lateral coordinate of the flange back, in the
+    file's unit and axes), for a rail ``canted`` (the cant already in the points: ``none``,
+    ``1:40``, ``1:20`` or rad). A file without it, or with a missing or unknown key, is refused:
+    a profile read with the wrong conventions gives plausible-looking nonsense (a mirrored wheel
+    gave an equivalent conicity of 0.003).
+
+    Raises:
+        ProfileError: naming the file, the line and what was expected.
+    """
+    from fractions import Fraction
+
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise ProfileError(f"{path}: cannot read the profile file ({exc.strerror})") from exc
+    decl, decl_line = None, None
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        m = re.match(r"\s*#\s*railexu\s+profile\s*:(.*)$", raw, flags=re.IGNORECASE)
+        if m:
+            decl, decl_line = m.group(1), lineno
+            break
+    if decl is None:
+        raise _err(path, None, f"no '# railexu profile:' line: {_DECLARATION_HELP}")
+    fields = [f.strip() for f in decl.split(",") if f.strip()]
+    if not fields or fields[0].lower() != kind:
+        raise _err(path, decl_line, f"declares {fields[0] if fields else '?'!r}, expected {kind}")
+    values: dict[str, str] = {}
+    for f in fields[1:]:
+        if "=" not in f:
+            raise _err(path, decl_line, f"'{f}': expected 'key = value'. {_DECLARATION_HELP}")
+        k, v = (x.strip().lower() for x in f.split("=", 1))
+        if k not in DECLARATION_KEYS[kind]:
+            raise _err(
+                path, decl_line, f"unknown key {k!r}; a {kind} declares "
+                f"{', '.join(DECLARATION_KEYS[kind])}",
+            )  # fmt: skip
+        values[k] = v
+    missing = [k for k in DECLARATION_KEYS[kind] if k not in values]
+    if missing:
+        raise _err(path, decl_line, f"missing {', '.join(missing)}. {_DECLARATION_HELP}")
+
+    def choice(key: str, options: tuple[str, ...]) -> str:
+        if values[key] not in options:
+            raise _err(path, decl_line, f"{key} = {values[key]!r}: expected {' or '.join(options)}")
+        return values[key]
+
+    unit = choice("unit", ("mm", "m"))
+    flip_lateral = choice("lateral", ("outwards", "inwards")) == "inwards"
+    if kind == "wheel":
+        flip_height = choice("height", ("radius_increase", "radius_decrease")) == "radius_decrease"
+        try:
+            fb = float(values["flange_back"]) * (1e-3 if unit == "mm" else 1.0)
+        except ValueError:
+            raise _err(path, decl_line, "flange_back: expected a number") from None
+        return read_xy_profile(
+            path, "wheel", unit=unit, flip_lateral=flip_lateral, flip_height=flip_height,
+            flange_back_m=-fb if flip_lateral else fb,
+        )  # fmt: skip
+    flip_height = choice("height", ("up", "down")) == "down"
+    cant = values["canted"]
+    try:
+        if cant in ("none", "0"):
+            angle = 0.0
+        elif ":" in cant:
+            num, den = cant.split(":", 1)
+            angle = math.atan(float(Fraction(num.strip()) / Fraction(den.strip())))
+        else:
+            angle = float(cant)
+    except (ValueError, ZeroDivisionError):
+        raise _err(
+            path, decl_line, f"canted = {cant!r}: expected none, 1:40, 1:20 or rad"
+        ) from None
+    return read_xy_profile(
+        path, "rail", unit=unit, flip_lateral=flip_lateral, flip_height=flip_height,
+        inclination_rad=angle,
+    )  # fmt: skip

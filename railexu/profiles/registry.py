@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .builtin import cone_wheel, flat_rail, rail_60e1, round_rail, s1002
 from .core import Profile, ProfileError
-from .readers import read_simpack_profile, read_xy_profile
+from .readers import read_declared_text_profile, read_simpack_profile
 
 #: Cant of the Manchester benchmark rail file (already contained in its points) [rad].
 MBENCH_RAIL_INCLINATION_RAD = math.atan(1.0 / 40.0)
@@ -125,14 +125,15 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
         raise ProfileError(
             f"unknown {kind} profile {text!r}.{suggestion} Built-in {kind} profiles: "
             f"{', '.join(names)}, test shapes {', '.join(shapes)}; or give a file path ({ext} "
-            "SIMPACK, anything else two-column text 'lateral height' in mm)."
+            "SIMPACK, anything else two-column text 'lateral height' with a "
+            "'# railexu profile:' line declaring its conventions)."
         )
     if not path.is_file():
         raise ProfileError(f"{kind} profile file {text!r} does not exist")
     if path.suffix.lower() in (".prw", ".prr"):
         profile = read_simpack_profile(path)
     else:
-        profile = read_xy_profile(path, kind, unit="mm")
+        profile = read_declared_text_profile(path, kind)
     if profile.kind != kind:
         raise ProfileError(f"{path}: this is a {profile.kind} profile, expected a {kind} profile")
     return profile
@@ -140,8 +141,9 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
 
 def wheel_profile(name_or_path: str | os.PathLike) -> Profile:
     """A wheel profile by built-in name (case-insensitive: ``"S1002"``, ``"MBench_S1002"``, the
-    test cone ``"cone:0.05"``) or by path (``.prw``: SIMPACK; anything else: two-column text in
-    mm, see :func:`read_xy_profile`)."""
+    test cone ``"cone:0.05"``) or by path (``.prw``: SIMPACK; anything else: two-column text
+    that declares its conventions, :func:`~railexu.profiles.readers.read_declared_text_profile`).
+    """
     return _lookup(name_or_path, "wheel")
 
 
@@ -149,5 +151,6 @@ def rail_profile(name_or_path: str | os.PathLike) -> Profile:
     """A rail profile by built-in name (case-insensitive: ``"UIC60"``, ``"60E1"`` - the analytic
     upright head - and ``"MBench_UIC60"``, canted 1:40; test shapes ``"round:0.3"`` (circular
     head of 0.3 m radius) and ``"flat"``) or by path (``.prr``: SIMPACK;
-    anything else: two-column text in mm, upright)."""
+    anything else: two-column text declaring its conventions and cant,
+    :func:`~railexu.profiles.readers.read_declared_text_profile`)."""
     return _lookup(name_or_path, "rail")

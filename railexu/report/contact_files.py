@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..contact.check import CONTACT_COLUMNS, ContactCheckResult, _fmt
+from ..contact.check import ContactCheckResult, _fmt
 
 
 def write_contact_check(result: ContactCheckResult, out_dir: str | Path) -> list[Path]:
@@ -27,7 +27,7 @@ def write_contact_check(result: ContactCheckResult, out_dir: str | Path) -> list
     written = []
     path = out / "contact.csv"
     with path.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=CONTACT_COLUMNS)
+        writer = csv.DictWriter(fh, fieldnames=result.columns, extrasaction="ignore")
         writer.writeheader()
         for row in result.rows:
             writer.writerow({k: _fmt(v) for k, v in row.items()})
