@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from .common import CliError, parse_range
+from .common import CliError, parse_range, quantity
 
 #: Largest sweep (lateral positions, amplitudes) the command accepts.
 MAX_SWEEP_POINTS = 10001
@@ -38,7 +38,7 @@ def checked_range(text: str, name: str) -> tuple[float, ...]:
     return parse_range(text, name)
 
 
-def add_parser(sub) -> None:
+def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "contact",
         help="quasi-static wheel/rail check over lateral displacements",
@@ -56,11 +56,17 @@ def add_parser(sub) -> None:
     p.add_argument("--wheel-right", default=None, help="right wheel profile (overrides --wheel)")
     p.add_argument("--rail", default="UIC60", help="built-in rail profile or file (.prr, y-z)")
     p.add_argument("--inclination", default="1:40", help="rail inclination: 1:40, 1:20 or none")
-    p.add_argument("--gauge", type=float, default=1.435, help="track gauge [m] (14 mm below top)")
-    p.add_argument("--flange-back", type=float, default=1.360, help="flange-back distance [m]")
-    p.add_argument("--radius", type=float, default=0.46, help="nominal rolling radius [m]")
-    p.add_argument("--radius-left", type=float, default=None, help="left wheel radius [m]")
-    p.add_argument("--radius-right", type=float, default=None, help="right wheel radius [m]")
+    p.add_argument(
+        "--gauge", type=quantity("m"), default=1.435, help="track gauge [m] (14 mm below top)"
+    )
+    p.add_argument(
+        "--flange-back", type=quantity("m"), default=1.360, help="flange-back distance [m]"
+    )
+    p.add_argument("--radius", type=quantity("m"), default=0.46, help="nominal rolling radius [m]")
+    p.add_argument("--radius-left", type=quantity("m"), default=None, help="left wheel radius [m]")
+    p.add_argument(
+        "--radius-right", type=quantity("m"), default=None, help="right wheel radius [m]"
+    )
     p.add_argument(
         "--normal",
         choices=("hertz", "kik_piotrowski"),
@@ -80,10 +86,14 @@ def add_parser(sub) -> None:
     p.add_argument(
         "--yaw-per-lateral", type=float, default=0.0, help="yaw = factor x lateral [rad/m]"
     )
-    p.add_argument("--load", type=float, default=10000.0, help="vertical load per wheel [N]")
-    p.add_argument("--speed", type=float, default=2.0, help="forward speed [m/s]")
+    p.add_argument(
+        "--load", type=quantity("N"), default=10000.0, help="vertical load per wheel [N]"
+    )
+    p.add_argument("--speed", type=quantity("m/s"), default=2.0, help="forward speed [m/s]")
     p.add_argument("--friction", type=float, default=0.3, help="friction coefficient [-]")
-    p.add_argument("--shear-modulus", type=float, default=82e9, help="shear modulus G [Pa]")
+    p.add_argument(
+        "--shear-modulus", type=quantity("Pa"), default=82e9, help="shear modulus G [Pa]"
+    )
     p.add_argument("--poisson", type=float, default=0.28, help="Poisson's ratio [-]")
     p.add_argument(
         "--creep",
@@ -97,6 +107,7 @@ def add_parser(sub) -> None:
     )
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=command)
+    return p
 
 
 def command(args: argparse.Namespace) -> int:

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import argparse
 
-from .common import CliError
+from .common import CliError, quantity
 
 
-def add_parser(sub) -> None:
+def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "creep",
         help="creep forces of one contact from given ellipse, load, creepages and spin",
@@ -24,20 +24,25 @@ def add_parser(sub) -> None:
             "(--curvatures A_PER_M B_PER_M, Hertz)."
         ),
     )
-    p.add_argument("--load", type=float, required=True, help="normal force Q [N]")
-    p.add_argument("--semi-axes", nargs=2, type=float, metavar=("A_M", "B_M"), default=None,
+    p.add_argument("--load", type=quantity("N"), required=True, help="normal force Q [N]")
+    p.add_argument("--semi-axes", nargs=2, type=quantity("m"), metavar=("A_M", "B_M"), default=None,
                    help="semi-axes a (rolling direction) and b [m]")  # fmt: skip
     p.add_argument("--curvatures", nargs=2, type=float, metavar=("A", "B"), default=None,
                    help="gap curvature sums A, B of A x^2 + B y^2 [1/m] (Hertz)")  # fmt: skip
     p.add_argument("--xi", type=float, default=0.0, help="longitudinal creepage [-]")
     p.add_argument("--eta", type=float, default=0.0, help="lateral creepage [-]")
-    p.add_argument("--spin", type=float, default=0.0, help="spin creepage [1/m]")
+    p.add_argument("--spin", type=quantity("1/m"), default=0.0, help="spin creepage [1/m]")
     p.add_argument("--friction", type=float, default=0.3, help="friction coefficient [-]")
-    p.add_argument("--shear-modulus", type=float, default=82e9, help="shear modulus G [Pa]")
+    p.add_argument(
+        "--shear-modulus", type=quantity("Pa"), default=82e9, help="shear modulus G [Pa]"
+    )
     p.add_argument("--poisson", type=float, default=0.28, help="Poisson's ratio [-]")
-    p.add_argument("--speed", type=float, default=10.0, help="speed [m/s] (polach_2005 only)")
+    p.add_argument(
+        "--speed", type=quantity("m/s"), default=10.0, help="speed [m/s] (polach_2005 only)"
+    )
     p.add_argument("--creep", default="all", help="a creep law, or 'all' (default)")
     p.set_defaults(func=command)
+    return p
 
 
 def command(args: argparse.Namespace) -> int:
