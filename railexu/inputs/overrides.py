@@ -157,6 +157,20 @@ def apply_overrides(
     return out
 
 
+def set_values(
+    data: dict, pairs: Iterable[tuple[str, Any]], source: str = "replace"
+) -> dict:
+    """Like :func:`apply_overrides` with ``(dotted path, Python value)`` pairs: the values are
+    set as given (a text like ``"4 MN/m"`` stays text, validated by the loader)."""
+    out = copy.deepcopy(data)
+    for key, value in pairs:
+        parts = [p for p in str(key).strip().split(".") if p]
+        if not parts:
+            raise InputError(f"empty path {key!r}", source=source)
+        _Assigner(source, value, (source, None), None).assign(out, parts, [])
+    return out
+
+
 def _parse_value(text: str, source: str) -> tuple[Any, LineMap]:
     from .reader import parse_yaml
 
