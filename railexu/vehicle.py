@@ -205,11 +205,14 @@ class Vehicle:
         springs ``2 b`` apart (the springs act on the axle, so their ``x`` offset is 0)."""
         out = {}
         for ws in self.wheelsets:
-            out[ws.name] = sum(
-                el.stiffness_N_per_m[0] * el.position_m[1] ** 2
-                for el in self.suspension
-                if isinstance(el, SpringDamper) and ws.name in el.bodies
-            ) + 0.0
+            out[ws.name] = (
+                sum(
+                    el.stiffness_N_per_m[0] * el.position_m[1] ** 2
+                    for el in self.suspension
+                    if isinstance(el, SpringDamper) and ws.name in el.bodies
+                )
+                + 0.0
+            )
         return out
 
     @property
@@ -299,9 +302,7 @@ def vehicle_from_dict(
     duplicates = {n for n in names if names.count(n) > 1}
     if duplicates:
         top.fail(f"names used twice among bodies and wheelsets: {', '.join(sorted(duplicates))}")
-    suspension = [
-        el for n, _ in top.items("suspension", False) for el in _element(top, n, names)
-    ]
+    suspension = [el for n, _ in top.items("suspension", False) for el in _element(top, n, names)]
     loads = [ld for n, _ in top.items("loads", False) for ld in _loads(top, n, names)]
     speed_body = VEHICLE.read(top, "speed_body") or names[0]
     if speed_body not in names:
@@ -418,8 +419,7 @@ def _loads(top: Section, name: Any, names: list[str]) -> list[Load]:
     estimate, static = LOAD.read(sec, "estimate"), LOAD.read(sec, "static")
     mirror = _mirror(sec, LOAD, position)
     return [
-        Load(n, body, p, force, estimate, static)
-        for n, p in _mirrored(str(name), position, mirror)
+        Load(n, body, p, force, estimate, static) for n, p in _mirrored(str(name), position, mirror)
     ]
 
 

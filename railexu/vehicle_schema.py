@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from .contact.creep import CREEP_MODELS
 from .contact.evaluation import DAMPING_MODELS, ContactParameters
-from .inputs import OPTIONAL, REQUIRED, Field, Schema
+from .inputs import OPTIONAL, Field, Schema
 
 #: The format this railexu writes; :data:`READ_VERSIONS` are the ones it reads.
 FORMAT_VERSION = 2
@@ -39,18 +39,36 @@ POLACH_2005 = Schema(
     "Polach (2005), falling friction with slip velocity; dry rail by default (Table 2).",
 )  # fmt: skip
 _NO_PARAMETERS = Schema("none", ())
-CREEP_LAWS = {name: POLACH_2005 if name == "polach_2005" else _NO_PARAMETERS for name in CREEP_MODELS}
+CREEP_LAWS = {
+    name: POLACH_2005 if name == "polach_2005" else _NO_PARAMETERS for name in CREEP_MODELS
+}
 
 NORMAL_DAMPING = {
     "hunt_crossley": Schema(
         "hunt_crossley",
-        (Field("coefficient", "chi of N = K d^1.5 (1 + chi d'): hysteresis damping (Hunt and "
-               "Crossley 1975)", unit="s/m", default=_C.damping, minimum=0.0, maximum=100.0),),
+        (
+            Field(
+                "coefficient",
+                "chi of N = K d^1.5 (1 + chi d'): hysteresis damping (Hunt and Crossley 1975)",
+                unit="s/m",
+                default=_C.damping,
+                minimum=0.0,
+                maximum=100.0,
+            ),
+        ),
     ),  # fmt: skip
     "linear": Schema(
         "linear",
-        (Field("coefficient", "D of N = K d^1.5 + D d' (jumps to D d' at first touch)",
-               unit="N s/m", default=1.0e5, minimum=0.0, maximum=1.0e8),),
+        (
+            Field(
+                "coefficient",
+                "D of N = K d^1.5 + D d' (jumps to D d' at first touch)",
+                unit="N s/m",
+                default=1.0e5,
+                minimum=0.0,
+                maximum=1.0e8,
+            ),
+        ),
     ),  # fmt: skip
 }
 assert set(NORMAL_DAMPING) == set(DAMPING_MODELS)

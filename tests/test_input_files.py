@@ -23,7 +23,7 @@ TRACKS = ROOT / "tracks"
 def test_shipped_vehicles_load_and_stand_in_equilibrium(name):
     vehicle = load_vehicle(VEHICLES / f"{name}.yaml")
     statics = static_equilibrium(vehicle, [0.75] * len(vehicle.wheelsets))
-    weight = vehicle.total_mass_kg() * vehicle.gravity_m_per_s2
+    weight = vehicle.total_mass_kg * vehicle.gravity_m_per_s2
     external = -sum(load.force_N[2] for load in vehicle.loads)
     # the wheel loads carry the weight and the vertical loads (force balance, 1e-9 relative)
     assert np.sum(statics.wheel_loads_N) == pytest.approx(weight + external, rel=1e-9)
@@ -35,7 +35,7 @@ def test_eu07_data():
     """80 t, Bo'Bo', 1250 mm wheels, S1002; 196.2 kN per axle; every value that no public source
     gives is marked as an estimate with its basis."""
     vehicle = load_vehicle(VEHICLES / "eu07.yaml")
-    assert vehicle.total_mass_kg() == pytest.approx(80000.0, rel=1e-9)
+    assert vehicle.total_mass_kg == pytest.approx(80000.0, rel=1e-9)
     assert len(vehicle.wheelsets) == 4 and len(vehicle.bodies) == 3
     for ws in vehicle.wheelsets:
         assert ws.nominal_radius_m == pytest.approx(0.625)
@@ -54,7 +54,7 @@ def test_eu07_data():
 
 def test_manchester_coach_data():
     vehicle = load_vehicle(VEHICLES / "manchester_coach.yaml")
-    assert vehicle.total_mass_kg() == pytest.approx(32000 + 2 * 2615 + 4 * 1813)
+    assert vehicle.total_mass_kg == pytest.approx(32000 + 2 * 2615 + 4 * 1813)
     primary = next(el for el in vehicle.suspension if el.name == "primary_ws1_left")
     assert primary.stiffness_N_per_m == pytest.approx((31391e3, 3884e3, 1220e3))
 

@@ -9,8 +9,6 @@ from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from ..errors import InputError, did_you_mean
 from .reader import KeyPath, LineMap, load_yaml
 
@@ -157,9 +155,7 @@ def apply_overrides(
     return out
 
 
-def set_values(
-    data: dict, pairs: Iterable[tuple[str, Any]], source: str = "replace"
-) -> dict:
+def set_values(data: dict, pairs: Iterable[tuple[str, Any]], source: str = "replace") -> dict:
     """Like :func:`apply_overrides` with ``(dotted path, Python value)`` pairs: the values are
     set as given (a text like ``"4 MN/m"`` stays text, validated by the loader)."""
     out = copy.deepcopy(data)

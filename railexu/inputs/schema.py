@@ -195,7 +195,9 @@ def _union(schemas: Iterable[Schema]) -> Schema:
 
 
 # -- readers of each kind -------------------------------------------------------------------------
-def _quantity(sec: Section, f: Field) -> float:
+def _quantity(sec: Section, f: Field) -> float | None:
+    if f.default is OPTIONAL and f.key not in sec.data:
+        return None
     default = None if f.default in (REQUIRED, OPTIONAL) else f.default
     value = sec.quantity(f.key, f.unit, default=default, required=f.required)
     if f.key in sec.data:
@@ -233,6 +235,9 @@ def _integer(sec: Section, f: Field) -> int | None:
     if f.maximum is not None and value > f.maximum:
         sec.fail(f"must be <= {f.maximum:g}, got {value}", key=f.key)
     choices = f.allowed_choices()
+    if choices and value not in choices and f.key == "format_version":
+        sec.fail(f"format_version {value} is not supported (this railexu reads "
+                 f"{', '.join(str(c) for c in choices)})", key=f.key)  # fmt: skip
     if choices and value not in choices:
         sec.fail(f"must be one of {', '.join(str(c) for c in choices)}, got {value}", key=f.key)
     return value
