@@ -85,17 +85,19 @@ class Field:
             return tuple(self.models)
         return tuple(self.choices() if callable(self.choices) else self.choices)
 
-    def check(self, value: float, fail: Callable[[str], None]) -> float:
-        """Check a number (SI) against the field's range; ``fail(message)`` raises."""
+    def check(self, value: float, fail: Callable[[str], None], written: Any = None) -> float:
+        """Check a number (SI) against the field's range; ``fail(message)`` raises. The
+        message shows ``written`` (the value as written) if given."""
         unit = "" if self.unit in ("", "1") else f" {self.unit}"
+        shown = repr(written) if written is not None else f"{value:g}"
         if not math.isfinite(value):
-            fail(f"expected a finite value{unit}, got {value!r}")
+            fail(f"expected a finite value{unit}, got {shown}")
         if self.positive and not value > 0.0:
-            fail(f"must be > 0{unit}, got {value:g}")
+            fail(f"must be > 0{unit}, got {shown}")
         if self.minimum is not None and value < self.minimum:
-            fail(f"must be >= {self.minimum:g}{unit}, got {value:g}")
+            fail(f"must be >= {self.minimum:g}{unit}, got {shown}")
         if self.maximum is not None and value > self.maximum:
-            fail(f"must be <= {self.maximum:g}{unit}, got {value:g}")
+            fail(f"must be <= {self.maximum:g}{unit}, got {shown}")
         return value
 
 
@@ -199,10 +201,8 @@ def _quantity(sec: Section, f: Field) -> float | None:
     if f.default is OPTIONAL and f.key not in sec.data:
         return None
     default = None if f.default in (REQUIRED, OPTIONAL) else f.default
-    value = sec.quantity(f.key, f.unit, default=default, required=f.required)
-    if f.key in sec.data:
-        f.check(value, lambda m: sec.fail(m, key=f.key))
-    return value
+    return sec.quantity(f.key, f.unit, default=default, required=f.required, minimum=f.minimum,
+                        maximum=f.maximum, positive=f.positive)  # fmt: skip
 
 
 def _vector(sec: Section, f: Field) -> tuple[float, ...]:
@@ -213,8 +213,9 @@ def _vector(sec: Section, f: Field) -> tuple[float, ...]:
         raw = sec.data[f.key]
         for i, (c, v) in enumerate(zip(f.components, value, strict=True)):
             sub = c if isinstance(raw, dict) else i
+            written = raw.get(c) if isinstance(raw, dict) else raw[i]
             where = Section({sub: None}, sec.source, sec.lines, (*sec.path, f.key))
-            f.check(v, lambda m, where=where, sub=sub: where.fail(m, key=sub))
+            f.check(v, lambda m, where=where, sub=sub: where.fail(m, key=sub), written)
     return value
 
 
