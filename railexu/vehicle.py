@@ -510,6 +510,8 @@ def _upgrade_version_1(data: dict, lines: dict) -> tuple[dict, dict]:
     if "normal_damping" in new:
         damping.setdefault("model", ContactParameters().damping_model)
         damping["coefficient"] = new.pop("normal_damping")
+    elif damping:  # version 1 took the one default coefficient whatever the model
+        damping["coefficient"] = ContactParameters().damping
         _move_line(lines, ("contact", "normal_damping"), ("contact", "normal_damping",
                                                           "coefficient"))  # fmt: skip
     if damping:

@@ -21,6 +21,10 @@ def _default_text(f: Field) -> str:
     if f.default is OPTIONAL:
         return "-"
     value = f.default
+    if isinstance(value, dict):
+        return f"`{value[f.selector]}`" if f.selector in value else "none"
+    if value == "":
+        return '""'
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
