@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 import re
 
+from .errors import InputError
+
 # symbol -> (factor to SI, dimension exponents (kg, m, s))
 _BASE: dict[str, tuple[float, tuple[int, int, int]]] = {
     "kg": (1.0, (1, 0, 0)),
@@ -45,8 +47,8 @@ _BASE: dict[str, tuple[float, tuple[int, int, int]]] = {
 }
 
 
-class UnitError(ValueError):
-    """A value whose unit is unknown or has the wrong dimension."""
+class UnitError(InputError):
+    """A value whose unit is unknown or has the wrong dimension (an :class:`InputError`)."""
 
 
 def _parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
