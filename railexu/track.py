@@ -151,13 +151,25 @@ def track_from_dict(
     return Track(
         name=TRACK.read(top, "name"),
         rail_profile=rail,
-        inclination=written if isinstance(written, str) else angle,
+        inclination=_inclination_value(written, angle),
         gauge_m=TRACK.read(top, "gauge"),
         geometry=geometry,
         irregularity=spec,
         description=TRACK.read(top, "description"),
         source=source,
     )
+
+
+def _inclination_value(written: object, angle_rad: float) -> str | float:
+    """The inclination as written if the model's parser reads it to the same angle (a ratio,
+    ``"none"``: kept for display), else the angle in rad."""
+    if isinstance(written, str):
+        try:
+            if parse_inclination(written) == angle_rad:
+                return written
+        except ValueError:
+            pass
+    return angle_rad
 
 
 def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:

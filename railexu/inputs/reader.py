@@ -123,9 +123,28 @@ def parse_yaml(text: str, source: str = "<string>") -> tuple[Any, LineMap]:
     return _Builder(source, lines).build(node, ()), lines
 
 
-def _compose(text: str, source: str) -> yaml.Node | None:
-    loader = yaml.SafeLoader(text)
+def _check_depth(text: str, source: str) -> None:
+    """Refuse nesting deeper than :data:`MAX_DEPTH` from the parser's events (iterative, so a
+    file of ten thousand ``[`` costs no recursion and little time)."""
+    depth = 0
     try:
+        for event in yaml.parse(text, Loader=yaml.SafeLoader):
+            if isinstance(event, yaml.CollectionStartEvent):
+                depth += 1
+                if depth > MAX_DEPTH:
+                    raise InputError(f"nesting deeper than {MAX_DEPTH} levels", source=source,
+                                     line=event.start_mark.line + 1)  # fmt: skip
+            elif isinstance(event, yaml.CollectionEndEvent):
+                depth -= 1
+    except yaml.YAMLError:
+        return  # reported with its line by the composer
+
+
+def _compose(text: str, source: str) -> yaml.Node | None:
+    loader = None
+    try:
+        _check_depth(text, source)
+        loader = yaml.SafeLoader(text)
         return loader.get_single_node()
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
@@ -135,7 +154,8 @@ def _compose(text: str, source: str) -> yaml.Node | None:
     except RecursionError as exc:
         raise InputError(f"nesting deeper than {MAX_DEPTH} levels", source=source) from exc
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
 
 
 def _check_size(root: yaml.Node, source: str) -> None:
@@ -206,7 +226,8 @@ class _Builder:
         try:
             return self.constructor.construct_object(n, deep=True)
         except (yaml.YAMLError, ValueError, OverflowError) as exc:
-            self.fail(f"cannot read value {n.value!r}: {exc}", n, path)
+            shown = n.value if len(n.value) <= 40 else n.value[:40] + "..."
+            self.fail(f"cannot read value {shown!r}: {str(exc)[:200]}", n, path)
 
     def _key(self, key_node: yaml.Node, path: KeyPath) -> Any:
         if not isinstance(key_node, yaml.ScalarNode) or key_node.tag not in _PLAIN_TAGS:
