@@ -17,6 +17,11 @@ from .spectra import TrackSpectrum, _band, _resolve_spectrum
 # ----------------------------------------------------------------------------------------------
 
 
+#: Most samples (and cosines) per synthesised signal: 160 MB per signal; a longer record is a
+#: unit mistake, refused before anything is allocated.
+MAX_SAMPLES = 20_000_000
+
+
 def component_amplitudes(
     spectrum: str | TrackSpectrum,
     component: str,
@@ -129,6 +134,11 @@ def synthesize_irregularities(
     step_target = float(wavelength_min_m) / 16.0 if step_m is None else float(step_m)
     if not (math.isfinite(step_target) and step_target > 0.0):
         raise IrregularityError(f"step_m must be positive, got {step_m!r}")
+    if not length / step_target <= MAX_SAMPLES or not n_components <= MAX_SAMPLES:
+        raise IrregularityError(
+            f"{length:g} m in steps of {step_target:g} m with {n_components:g} cosines is more "
+            f"than {MAX_SAMPLES:.3g} samples or cosines per signal: is a length or a unit wrong?"
+        )
     n_intervals = max(1, math.ceil(length / step_target - 1e-9))
     step = length / n_intervals
     n_points = n_intervals + 1
