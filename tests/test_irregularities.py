@@ -45,13 +45,13 @@ def _band(o, a):
 
 
 @pytest.mark.parametrize(("name", "coef"), [("german_low", LOW), ("german_high", HIGH)])
-def test_german_psd_matches_physics_md(name, coef):
+def test_german_psd_matches_erri_b176(name, coef):
     spec = get_spectrum(name)
     om = np.array([0.01, 0.05, 0.2, OS, OC, 2.0, 6.0])
     np.testing.assert_allclose(spec.psd("lateral", om), _plain(om, coef["A_a"]), rtol=1e-14)
     np.testing.assert_allclose(spec.psd("vertical", om), _plain(om, coef["A_v"]), rtol=1e-14)
     np.testing.assert_allclose(spec.psd("gauge", om), _band(om, coef["A_g"]), rtol=1e-14)
-    # Cross level: physics.md gives the PSD of the cross-level ANGLE, (A_v/b^2) * shape, in
+    # Cross level: ERRI B176 gives the PSD of the cross-level ANGLE, (A_v/b^2) * shape, in
     # rad^2/(rad/m); railexu's cross level is the height difference 2b * angle (m).
     angle_psd = _band(om, coef["A_v"] / B**2)
     np.testing.assert_allclose(spec.psd("cross_level", om), (2 * B) ** 2 * angle_psd, rtol=1e-14)

@@ -30,7 +30,8 @@ is the integral of its PSD over ``Omega`` (m^2).
 Spectra (``get_spectrum(name)``)
 --------------------------------
 ``german_low``, ``german_high`` -- the German spectra of ERRI (ORE) B176, low and high level, as
-given in railexu's ``physics.md`` section 6, with ``Oc = 0.8246``, ``Or = 0.0206``,
+given by ORE/ERRI B176 (Bogies with steered or steering wheelsets, Report 1, Utrecht 1989;
+see ``docs/theory.md``), with ``Oc = 0.8246``, ``Or = 0.0206``,
 ``Os = 0.4380`` rad/m and ``b = 0.75`` m (half the distance between the rails' contact points)::
 
     S_a(O) = A_a Oc^2 / ((O^2 + Or^2)(O^2 + Oc^2))                        alignment
@@ -47,7 +48,8 @@ height difference ``c = 2 b * angle``, so its PSD is ``(2 b)^2 S_t = 4 A_v Oc^2 
 m^2/(rad/m).
 
 ``fra_class_1`` ... ``fra_class_6`` -- the US FRA (Federal Railroad Administration) vertical
-profile spectrum for track classes 1-6, as in ``physics.md`` section 6::
+profile spectrum for track classes 1-6 (as given by Garg and Dukkipati, Dynamics of Railway
+Vehicle Systems, Academic Press 1984; see ``docs/theory.md``)::
 
     S_v(O) = k A_v Oc^2 / (O^2 (O^2 + Oc^2)),   k = 0.25, Oc = 0.8245 rad/m
 
@@ -60,8 +62,9 @@ with coefficients railexu could not check against a citable source, so asking fo
 
 Synthesis (``synthesize_irregularities``)
 -----------------------------------------
-Sum of cosines (``physics.md`` section 6): the band ``[2 pi/wavelength_max, 2 pi/wavelength_min]``
-is cut into ``N`` equal intervals of width ``dO`` with midpoints ``O_k``; each signal is
+Sum of cosines (Shinozuka and Jan 1972, Digital simulation of random processes and its
+applications, J. Sound Vib. 25; see ``docs/theory.md``): the band
+``[2 pi/wavelength_max, 2 pi/wavelength_min]`` is cut into ``N`` equal intervals of width ``dO`` with midpoints ``O_k``; each signal is
 
     q(x) = sum_k a_k cos(O_k x + phi_k),   a_k = amplitude_scale * sqrt(2 S(O_k) dO)
 
