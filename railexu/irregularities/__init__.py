@@ -64,7 +64,8 @@ Synthesis (``synthesize_irregularities``)
 -----------------------------------------
 Sum of cosines (Shinozuka and Jan 1972, Digital simulation of random processes and its
 applications, J. Sound Vib. 25; see ``docs/theory.md``): the band
-``[2 pi/wavelength_max, 2 pi/wavelength_min]`` is cut into ``N`` equal intervals of width ``dO`` with midpoints ``O_k``; each signal is
+``[2 pi/wavelength_max, 2 pi/wavelength_min]`` is cut into ``N`` equal intervals of width ``dO``
+with midpoints ``O_k``; each signal is
 
     q(x) = sum_k a_k cos(O_k x + phi_k),   a_k = amplitude_scale * sqrt(2 S(O_k) dO)
 
