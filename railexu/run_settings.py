@@ -30,7 +30,9 @@ SOLVERS = ("generalized_alpha", "trapezoidal")
 
 
 class RunSettingsError(InputError):
-    """Invalid run settings."""
+    """Invalid run settings; ``field`` is the key of :data:`RUN_SCHEMA` at fault."""
+
+    field: str = ""
 
 
 RUN_SCHEMA = Schema(
@@ -152,7 +154,9 @@ class RunSettings:
 
 
 def _fail(key: str, message: str) -> None:
-    raise RunSettingsError(f"run settings: {key}: {message}")
+    error = RunSettingsError(f"run settings: {key} {message}")
+    error.field = key
+    raise error
 
 
 def _check(key: str, value: float) -> None:
@@ -209,6 +213,6 @@ def run_settings_from_dict(
     try:
         return RunSettings(**kwargs)
     except RunSettingsError as exc:
-        key = str(exc).split(": ")[1] if str(exc).count(": ") >= 2 else None
-        sec.fail(str(exc).split(": ", 2)[-1], key=key if key in RUN_KEYS else None)
+        key = exc.field if exc.field in RUN_KEYS else None
+        sec.fail(str(exc).removeprefix(f"run settings: {exc.field} "), key=key)
         raise  # unreachable

@@ -69,7 +69,7 @@ class _Assigner:
 
     def set(self, node: Any, key: Any, path: KeyPath) -> None:
         node[key] = copy.deepcopy(self.value)
-        if self.origins is not None:
+        if self.origins is not None and self.origin is not None:
             self.origins[(*path, key)] = self.origin
 
     def assign(self, node: Any, parts: list[str], done: list[Any]) -> None:
@@ -128,8 +128,10 @@ def apply_overrides(
     named ``primary_ws...``. A pattern never creates keys; one that matches nothing is an error,
     and so is a matched entry that lacks the rest of the path.
 
-    ``origins``, if given, receives the concrete key path of every value set, mapped to the
-    ``(source, line)`` of its override (an :class:`Override` carries its own; others ``source``).
+    ``origins``, if given, receives the concrete key path of every value set by an
+    :class:`Override`, mapped to the ``(source, line)`` it carries; errors in those values are
+    then reported there. Plain strings (``--set``) record nothing: their errors name the file
+    and the line of the section they change, as before.
 
     Raises:
         InputError: malformed item, unparsable value, a key or list item that does not exist
@@ -138,19 +140,20 @@ def apply_overrides(
     out = copy.deepcopy(data)
     for item in as_override_list(overrides):
         item_source = getattr(item, "source", "") or source
-        origin = (item_source, getattr(item, "line", None))
+        line = getattr(item, "line", None)
+        origin = (item_source, line) if isinstance(item, Override) else None
         if "=" not in item:
             raise InputError(f"expected dotted.key=value, got {str(item)!r}", source=item_source,
-                             line=origin[1])  # fmt: skip
+                             line=line)  # fmt: skip
         key, _, text = item.partition("=")
         parts = [p for p in key.strip().split(".") if p]
         if not parts:
-            raise InputError(f"empty key in {str(item)!r}", source=item_source, line=origin[1])
+            raise InputError(f"empty key in {str(item)!r}", source=item_source, line=line)
         try:
             value, _ = _parse_value(text, item_source)
         except InputError as exc:
             raise InputError(f"cannot parse value {text!r}: {exc.detail}", source=item_source,
-                             line=origin[1], key=key) from None  # fmt: skip
+                             line=line, key=key) from None  # fmt: skip
         _Assigner(item_source, value, origin, origins).assign(out, parts, [])
     return out
 
