@@ -293,3 +293,26 @@ def test_any_override_applies_or_gives_an_input_error(path, value):
         vehicle.replace(path, value)
     with contextlib.suppress(InputError):
         apply_overrides(vehicle.raw, f"{path}={value}")
+
+
+_STUDY_PARAMETERS = st.sampled_from([
+    "run.speed", "run.distance", "run.time_step", "vehicle.wheelsets.ws1.mass", "run.sped",
+    "vehicle.wheelsets.*.nominal_radius", "vehicle.contact.friction", "track.gauge", "nothing",
+])  # fmt: skip
+_STUDY_VALUES = st.one_of(
+    _NASTY.map(lambda v: f"[{v}]"),
+    st.tuples(_NASTY, _NASTY, _NASTY).map(lambda t: f"{{from: {t[0]}, to: {t[1]}, step: {t[2]}}}"),
+)
+
+
+@_SETTINGS
+@given(_STUDY_PARAMETERS, _STUDY_VALUES)
+def test_any_study_parameter_loads_or_gives_an_input_error(tmp_path_factory, parameter, values):
+    path = tmp_path_factory.mktemp("study") / "s.yaml"
+    path.write_text(STUDY_HEAD + f"    {parameter}: {values}\n", encoding="utf-8")
+    try:
+        study = load_study(path)
+    except InputError as exc:
+        assert str(exc).startswith(str(path)), str(exc)
+    else:
+        assert 1 <= len(study.cases()) <= 10_000
