@@ -21,7 +21,7 @@ from typing import Any
 
 from .catalog import find_input
 from .contact.evaluation import ContactParameterError, ContactParameters
-from .inputs import LineMap, Section, apply_overrides, load_yaml_with_overrides, resolve_file
+from .inputs import LineMap, Section, load_yaml_with_overrides, resolve_file
 from .inputs.overrides import set_values
 from .profiles import ProfileError, wheel_profile
 from .vehicle_checks import check_topology
@@ -524,8 +524,3 @@ def _move_line(lines: dict, old: tuple, new: tuple) -> None:
         lines[new] = lines[old]
         lines.setdefault(new[:-1], lines[old])
 
-
-def apply_vehicle_overrides(vehicle: Vehicle, overrides: str | Iterable[str]) -> Vehicle:
-    """``vehicle`` with ``dotted.key=value`` overrides applied (text values, as ``--set``)."""
-    data = apply_overrides(vehicle.raw, overrides)
-    return vehicle_from_dict(data, vehicle.source, vehicle.lines, vehicle.base_dir)
