@@ -523,4 +523,3 @@ def _move_line(lines: dict, old: tuple, new: tuple) -> None:
     if old in lines:
         lines[new] = lines[old]
         lines.setdefault(new[:-1], lines[old])
-
