@@ -1,7 +1,17 @@
 """Run settings: speed, distance, initial offset, step and solver of one run (SI units).
 
 :class:`RunSettings` is what :func:`railexu.simulation.run` takes; :func:`run_settings_from_dict`
-reads it from a mapping with units, as study files give it.
+reads it from a mapping with units, as study files give it. Every key is declared once in
+:data:`RUN_SCHEMA` (unit, range, default, doc; ``docs/run-settings-format.md`` is generated from
+it), and the dataclass takes its defaults and range checks from there.
+
+Besides the ranges of single values, one rule ties the step to the speed
+(:func:`check_step_for_speed`): per step the vehicle must not move more than
+:data:`MAX_TRAVEL_PER_STEP_M` = 0.3 m, a tenth of the shortest irregularity wavelength railexu
+synthesises by default (3 m, the lower end of the ERRI B176 band) and about a hundredth of the
+kinematic (Klingel) wavelength of a wheelset. A coarser step cannot resolve the track the
+wheels run over nor the contact forces' variation along it, and it changes the verdict (10 ms at
+140 m/s is 1.4 m per step). The error names the step the physics needs.
 """
 
 from __future__ import annotations
@@ -10,22 +20,58 @@ import math
 from dataclasses import dataclass
 
 from .errors import InputError
-from .inputs import Section
+from .inputs import OPTIONAL, Field, Schema, Section
+
+#: Largest distance the vehicle may travel in one integration step [m] (see the module doc).
+MAX_TRAVEL_PER_STEP_M = 0.3
+#: Most integration steps of one run: more is a unit mistake (or weeks of computing).
+MAX_STEPS = 20_000_000
+SOLVERS = ("generalized_alpha", "trapezoidal")
 
 
 class RunSettingsError(InputError):
-    """Invalid run settings."""
+    """Invalid run settings; ``field`` is the key of :data:`RUN_SCHEMA` at fault."""
+
+    field: str = ""
+
+
+RUN_SCHEMA = Schema(
+    "run",
+    (
+        Field("speed", "constant forward speed (the start speed of a ramp)", unit="m/s",
+              default=10.0, positive=True, maximum=150.0),
+        Field("distance", "distance to run", unit="m", default=150.0, positive=True,
+              maximum=200_000.0),
+        Field("initial_lateral", "lateral offset of the whole vehicle at the start (the seed "
+              "scenario uses 2 mm)", unit="m", default=0.002, minimum=-0.0199, maximum=0.0199),
+        Field("time_step", "integration step; at most 0.3 m of travel per step", unit="s",
+              default=0.002, minimum=1e-5, maximum=0.01),
+        Field("output_interval", "interval of the recorded time series (default: 5 ms or the "
+              "step)", unit="s", default=OPTIONAL, positive=True, maximum=10.0),
+        Field("solver", "Exudyn's implicit integrator", "text", default="generalized_alpha",
+              choices=SOLVERS),
+        Field("spectral_radius", "numerical damping of generalized-alpha (1 = none)", unit="1",
+              default=0.7, positive=True, maximum=1.0),
+        Field("newton_tolerance", "Exudyn's relative Newton tolerance", unit="1",
+              default=1.0e-3, minimum=1e-10, maximum=1e-2),
+    ),
+    "Settings of one run (`base.run` of a study; `railexu run` options).",
+)  # fmt: skip
+
+#: The keys of a run-settings mapping (study ``run.*`` parameters).
+RUN_KEYS = RUN_SCHEMA.keys()
+_D = RUN_SCHEMA.default
 
 
 @dataclass(frozen=True)
 class RunSettings:
-    """Settings of one run (SI units).
+    """Settings of one run (SI units); defaults and ranges from :data:`RUN_SCHEMA`.
 
     Attributes:
         speed_m_per_s: constant forward speed V.
         distance_m: distance to run.
         initial_lateral_m: lateral offset of the whole vehicle at the start (the seed: 2 mm).
-        time_step_s: integration step (default 2 ms, see the module docstring).
+        time_step_s: integration step (default 2 ms; see :func:`check_step_for_speed`).
         output_interval_s: interval of the recorded time series (default: 5 ms or the step).
         solver: ``"generalized_alpha"`` (default) or ``"trapezoidal"``.
         spectral_radius: numerical damping of generalized-alpha (1 = none).
@@ -38,40 +84,52 @@ class RunSettings:
             of the critical speed); the speed must stay positive over ``distance_m``.
     """
 
-    speed_m_per_s: float = 10.0
-    distance_m: float = 150.0
-    initial_lateral_m: float = 0.002
-    time_step_s: float = 0.002
-    output_interval_s: float | None = None
-    solver: str = "generalized_alpha"
-    spectral_radius: float = 0.7
-    newton_relative_tolerance: float = 1.0e-3
+    speed_m_per_s: float = _D("speed")
+    distance_m: float = _D("distance")
+    initial_lateral_m: float = _D("initial_lateral")
+    time_step_s: float = _D("time_step")
+    output_interval_s: float | None = _D("output_interval")
+    solver: str = _D("solver")
+    spectral_radius: float = _D("spectral_radius")
+    newton_relative_tolerance: float = _D("newton_tolerance")
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
     deceleration_m_per_s2: float = 0.0
 
     def __post_init__(self) -> None:
-        checks = [
-            (self.speed_m_per_s > 0.0, "speed must be > 0 m/s"),
-            (self.speed_m_per_s <= 150.0, "speed must be <= 150 m/s (is it in km/h?)"),
-            (self.distance_m > 0.0, "distance must be > 0 m"),
-            (abs(self.initial_lateral_m) < 0.02, "initial lateral offset must be below 20 mm"),
-            (1e-5 <= self.time_step_s <= 0.01, "time step must be within 0.01 .. 10 ms"),
-            (0.0 < self.spectral_radius <= 1.0, "spectral radius must be in (0, 1]"),
-            (1e-10 <= self.newton_relative_tolerance <= 1e-2, "Newton tolerance out of range"),
-            (0.0 < self.derailment_lift_fraction <= 1.0, "lift fraction must be in (0, 1]"),
-            (self.solver in ("generalized_alpha", "trapezoidal"), "solver must be "
-             "'generalized_alpha' or 'trapezoidal'"),
-        ]  # fmt: skip
-        if self.deceleration_m_per_s2 != 0.0:
-            v_end_sq = self.speed_m_per_s**2 - 2.0 * self.deceleration_m_per_s2 * self.distance_m
-            checks.append((self.deceleration_m_per_s2 > 0.0, "deceleration must be >= 0"))
-            checks.append((v_end_sq > 0.0, "the deceleration stops the vehicle before the end"))
+        for key, value in (
+            ("speed", self.speed_m_per_s),
+            ("distance", self.distance_m),
+            ("initial_lateral", self.initial_lateral_m),
+            ("time_step", self.time_step_s),
+            ("spectral_radius", self.spectral_radius),
+            ("newton_tolerance", self.newton_relative_tolerance),
+        ):
+            _check(key, value)
         if self.output_interval_s is not None:
-            checks.append((self.output_interval_s >= self.time_step_s, "output interval < step"))
-        for ok, message in checks:
-            if not ok:
-                raise RunSettingsError(f"run settings: {message}")
+            _check("output_interval", self.output_interval_s)
+            if self.output_interval_s < self.time_step_s:
+                _fail("output_interval", "must be >= the time step")
+        if self.solver not in SOLVERS:
+            _fail("solver", f"must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
+        if not 0.0 < self.derailment_lift_fraction <= 1.0:
+            _fail("derailment_lift_fraction", "must be in (0, 1]")
+        self._check_deceleration()
+        check_step_for_speed(self.speed_m_per_s, self.time_step_s)
+        steps = self.duration_s / self.time_step_s
+        if steps > MAX_STEPS:
+            _fail("distance", f"{self.distance_m:g} m at {self.speed_m_per_s:g} m/s in steps of "
+                  f"{self.time_step_s:g} s is {steps:.3g} steps, more than {MAX_STEPS:.3g}: is "
+                  "a unit wrong?")  # fmt: skip
+
+    def _check_deceleration(self) -> None:
+        a = self.deceleration_m_per_s2
+        if a == 0.0:
+            return
+        if not (math.isfinite(a) and a > 0.0):
+            _fail("deceleration", f"must be >= 0 m/s^2, got {a!r}")
+        if self.speed_m_per_s**2 - 2.0 * a * self.distance_m <= 0.0:
+            _fail("deceleration", "the deceleration stops the vehicle before the end")
 
     @property
     def duration_s(self) -> float:
@@ -95,16 +153,37 @@ class RunSettings:
         return max(1, int(round(interval / self.time_step_s)))
 
 
-RUN_KEYS = (
-    "speed",
-    "distance",
-    "initial_lateral",
-    "time_step",
-    "output_interval",
-    "solver",
-    "spectral_radius",
-    "newton_tolerance",
-)
+def _fail(key: str, message: str) -> None:
+    error = RunSettingsError(f"run settings: {key} {message}")
+    error.field = key
+    raise error
+
+
+def _check(key: str, value: float) -> None:
+    RUN_SCHEMA[key].check(value, lambda m: _fail(key, m))
+
+
+def max_time_step_s(speed_m_per_s: float) -> float:
+    """The largest step at which the vehicle travels at most :data:`MAX_TRAVEL_PER_STEP_M`
+    per step [s]."""
+    return MAX_TRAVEL_PER_STEP_M / speed_m_per_s
+
+
+def check_step_for_speed(speed_m_per_s: float, time_step_s: float) -> None:
+    """Refuse a step in which the vehicle travels more than :data:`MAX_TRAVEL_PER_STEP_M`.
+
+    Raises:
+        RunSettingsError: naming the travel per step and the step the physics needs.
+    """
+    travel = speed_m_per_s * time_step_s
+    if travel > MAX_TRAVEL_PER_STEP_M * (1.0 + 1e-9):
+        needed = max_time_step_s(speed_m_per_s)
+        _fail(
+            "time_step",
+            f"{time_step_s * 1e3:g} ms at {speed_m_per_s:g} m/s moves the vehicle {travel:.3g} m "
+            f"per step, more than {MAX_TRAVEL_PER_STEP_M:g} m (a tenth of the shortest "
+            f"irregularity wavelength, 3 m): use a step of at most {needed * 1e3:.3g} ms",
+        )
 
 
 def run_settings_from_dict(
@@ -114,30 +193,26 @@ def run_settings_from_dict(
 
         {speed: 10 m/s, distance: 150 m, initial_lateral: 2 mm, time_step: 2 ms}
 
-    Keys: ``speed`` [m/s], ``distance`` [m], ``initial_lateral`` [m], ``time_step`` [s],
-    ``output_interval`` [s], ``solver``, ``spectral_radius``, ``newton_tolerance``; missing ones
-    take the defaults of :class:`RunSettings`.
+    Keys and defaults: :data:`RUN_SCHEMA` (``docs/run-settings-format.md``).
 
     Raises:
         InputError: unknown keys, wrong units, invalid values (naming source, line and key).
     """
     sec = Section(data, source, lines, path, RUN_KEYS)
-    d = RunSettings()
+    values = RUN_SCHEMA.read_all(sec)
     kwargs = dict(
-        speed_m_per_s=sec.quantity("speed", "m/s", default=d.speed_m_per_s),
-        distance_m=sec.quantity("distance", "m", default=d.distance_m),
-        initial_lateral_m=sec.quantity("initial_lateral", "m", default=d.initial_lateral_m),
-        time_step_s=sec.quantity("time_step", "s", default=d.time_step_s),
-        solver=sec.string("solver", default=d.solver, choices=("generalized_alpha", "trapezoidal")),
-        spectral_radius=sec.quantity("spectral_radius", "1", default=d.spectral_radius),
-        newton_relative_tolerance=sec.quantity(
-            "newton_tolerance", "1", default=d.newton_relative_tolerance
-        ),
+        speed_m_per_s=values["speed"],
+        distance_m=values["distance"],
+        initial_lateral_m=values["initial_lateral"],
+        time_step_s=values["time_step"],
+        output_interval_s=values["output_interval"],
+        solver=values["solver"],
+        spectral_radius=values["spectral_radius"],
+        newton_relative_tolerance=values["newton_tolerance"],
     )
-    if sec.has("output_interval"):
-        kwargs["output_interval_s"] = sec.quantity("output_interval", "s")
     try:
         return RunSettings(**kwargs)
     except RunSettingsError as exc:
-        sec.fail(str(exc))
+        key = exc.field if exc.field in RUN_KEYS else None
+        sec.fail(str(exc).removeprefix(f"run settings: {exc.field} "), key=key)
         raise  # unreachable

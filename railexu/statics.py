@@ -148,3 +148,13 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
             forces[el.name] = -el.stiffness_N_m_per_rad * float(maps[el.name] @ u)
     total = sum(masses) * g - sum(load.force_N[2] for load in vehicle.loads if load.static)
     return StaticSolution(wheel_loads_N=loads, element_forces=forces, total_weight_N=total)
+
+
+def static_axle_loads_N(vehicle: Vehicle, wheel_lateral_m: float = 0.75) -> dict[str, float]:
+    """Static load of each wheelset on the rails [N] (sum of its two wheel loads) from
+    :func:`static_equilibrium`, with the contact points ``wheel_lateral_m`` from the wheelset
+    centre (0.75 m: the tape circles of a standard-gauge wheelset)."""
+    solution = static_equilibrium(vehicle, [wheel_lateral_m] * len(vehicle.wheelsets))
+    return {
+        ws.name: float(solution.wheel_loads_N[i].sum()) for i, ws in enumerate(vehicle.wheelsets)
+    }

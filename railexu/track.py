@@ -5,7 +5,7 @@ A track file (``docs/track-format.md``) describes the rails a vehicle runs on::
     format_version: 1
     name: straight
     rail_profile: UIC60          # built-in name or a profile file (.prr, two-column text)
-    inclination: "1:40"
+    inclination: 1:40            # a ratio (quoted or not), "none", or an angle with its unit
     gauge: 1.435 m
     geometry: {type: straight}   # curves are a planned extension of this section
     irregularities:
@@ -16,7 +16,8 @@ A track file (``docs/track-format.md``) describes the rails a vehicle runs on::
       wavelength_max: 150 m
 
 Only straight track is implemented; the geometry section exists so that curved track (radius,
-transitions, cant) can be added without changing the format of straight-track files.
+transitions, cant) can be added without changing the format of straight-track files. Every key is
+declared once in :mod:`railexu.track_schema`.
 """
 
 from __future__ import annotations
@@ -25,44 +26,26 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .contact.placement import PlacementError, parse_inclination
-from .inputs import InputError, Section, load_yaml_with_overrides, resolve_file
+from .catalog import find_input
+from .contact.placement import parse_inclination
+from .inputs import InputError, LineMap, Section, load_yaml_with_overrides, resolve_file
 from .irregularities import (
     COMPONENTS,
     IrregularityError,
     IrregularityProfile,
-    available_spectra,
     read_measured_irregularities,
     synthesize_irregularities,
 )
 from .profiles import ProfileError, rail_profile
-
-FORMAT_VERSION = 1
-TOP_KEYS = (
-    "format_version",
-    "name",
-    "description",
-    "rail_profile",
-    "inclination",
-    "gauge",
-    "geometry",
-    "irregularities",
+from .track_schema import (
+    IRREGULARITIES,
+    MAX_LENGTH_M,
+    MAX_SAMPLES,
+    TRACK,
+    synthetic_samples,
 )
-IRREGULARITY_KEYS = {
-    "none": ("type",),
-    "spectrum": (
-        "type",
-        "spectrum",
-        "seed",
-        "wavelength_min",
-        "wavelength_max",
-        "components",
-        "amplitude_scale",
-        "length",
-        "fade_length",
-    ),
-    "measured": ("type", "file", "fade_length"),
-}
+
+_SPECTRUM = IRREGULARITIES["spectrum"]
 
 
 @dataclass(frozen=True)
@@ -72,12 +55,12 @@ class IrregularitySpec:
     type: str = "none"
     spectrum: str = ""
     seed: int = 0
-    wavelength_min_m: float = 3.0
-    wavelength_max_m: float = 150.0
+    wavelength_min_m: float = _SPECTRUM.default("wavelength_min")
+    wavelength_max_m: float = _SPECTRUM.default("wavelength_max")
     components: tuple[str, ...] = COMPONENTS
-    amplitude_scale: float = 1.0
+    amplitude_scale: float = _SPECTRUM.default("amplitude_scale")
     length_m: float | None = None
-    fade_length_m: float = 10.0
+    fade_length_m: float = _SPECTRUM.default("fade_length")
     file: str = ""
 
 
@@ -86,9 +69,9 @@ class Track:
     """A validated track."""
 
     name: str
-    rail_profile: str = "UIC60"
-    inclination: str | float = "1:40"
-    gauge_m: float = 1.435
+    rail_profile: str = TRACK.default("rail_profile")
+    inclination: str | float = TRACK.default("inclination")
+    gauge_m: float = TRACK.default("gauge")
     geometry: str = "straight"
     irregularity: IrregularitySpec = field(default_factory=IrregularitySpec)
     description: str = ""
@@ -110,6 +93,7 @@ class Track:
         if spec.type == "measured":
             return read_measured_irregularities(spec.file, fade_length_m=spec.fade_length_m)
         length = spec.length_m if spec.length_m is not None else length_m + 50.0
+        check_record_length(spec, length, _refuse)
         return synthesize_irregularities(
             spec.spectrum,
             length_m=length,
@@ -122,18 +106,23 @@ class Track:
         )
 
 
+def _refuse(message: str) -> None:
+    raise IrregularityError(f"track irregularities: {message}")
+
+
 def ideal_straight_track() -> Track:
     """The default track: ideal straight track, UIC60 rails at 1:40, gauge 1.435 m."""
     return Track(name="straight (ideal)", description="ideal straight track")
 
 
-def load_track(path: str | Path, overrides: Iterable[str] = ()) -> Track:
-    """Read and validate a track file (overrides ``dotted.key=value`` applied first).
+def load_track(path: str | Path, overrides: str | Iterable[str] = ()) -> Track:
+    """Read and validate a track file, or a shipped track by name (``"straight_irregular"``);
+    overrides ``dotted.key=value`` are applied first (one string is one override).
 
     Raises:
         InputError: any problem, naming the file, the line and the key.
     """
-    path = Path(path)
+    path = find_input("track", path)
     data, lines = load_yaml_with_overrides(path, overrides)
     return track_from_dict(data, source=str(path), lines=lines, base_dir=path.parent)
 
@@ -142,79 +131,104 @@ def track_from_dict(
     data: dict, source: str = "<track>", lines: dict | None = None, base_dir: Path | None = None
 ) -> Track:
     """Validate raw track data into a :class:`Track`."""
-    top = Section(data, source, lines, (), TOP_KEYS)
-    version = top.integer("format_version")
-    if version != FORMAT_VERSION:
-        top.fail(f"format_version {version} is not supported (this railexu reads {FORMAT_VERSION})")
-    rail = resolve_file(top.string("rail_profile", default="UIC60"), base_dir)
+    top = TRACK.wrap(data, source, lines if lines is not None else LineMap())
+    TRACK.read(top, "format_version")
+    rail = resolve_file(TRACK.read(top, "rail_profile"), base_dir)
     try:
         rail_profile(rail)
     except ProfileError as exc:
         top.fail(str(exc), key="rail_profile")
-    inclination = top.data.get("inclination", "1:40")
-    try:
-        parse_inclination(inclination)
-    except PlacementError as exc:
-        top.fail(str(exc), key="inclination")
-    gauge = top.quantity("gauge", "m", default=1.435, minimum=1.0, maximum=2.0)
-    geometry = top.section("geometry", ("type",), required=False)
-    geometry_type = geometry.string("type", default="straight", choices=("straight",))
-    irr = top.section("irregularities", None, required=False)
-    kind = irr.string("type", default="none", choices=tuple(IRREGULARITY_KEYS))
-    irr = top.section("irregularities", IRREGULARITY_KEYS[kind], required=False)
-    spec = IrregularitySpec(type=kind)
+    written, angle = TRACK.read(top, "inclination")
+    geometry, _ = TRACK.read(top, "geometry")
+    kind, params = TRACK.read(top, "irregularities")
+    irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
-        spectrum = irr.string("spectrum", choices=available_spectra())
-        components = irr.string_list("components", default=COMPONENTS)
-        for c in components:
-            if c not in COMPONENTS:
-                irr.fail(f"unknown component {c!r}; expected some of {', '.join(COMPONENTS)}",
-                         key="components")  # fmt: skip
-        length = irr.quantity("length", "m", required=False, positive=True)
-        spec = IrregularitySpec(
-            type=kind,
-            spectrum=spectrum,
-            seed=irr.integer("seed", minimum=0),
-            wavelength_min_m=irr.quantity("wavelength_min", "m", default=3.0, positive=True),
-            wavelength_max_m=irr.quantity("wavelength_max", "m", default=150.0, positive=True),
-            components=components,
-            amplitude_scale=irr.quantity("amplitude_scale", "1", default=1.0, minimum=0.0),
-            length_m=None if length != length else length,
-            fade_length_m=irr.quantity("fade_length", "m", default=10.0, minimum=0.0),
-        )
-        if spec.wavelength_min_m >= spec.wavelength_max_m:
-            irr.fail("wavelength_min must be below wavelength_max", key="wavelength_min")
-        try:  # fail early on spectrum/component combinations the spectrum does not have
-            synthesize_irregularities(
-                spectrum, 4.0 * spec.fade_length_m + 100.0, 0, spec.wavelength_min_m,
-                spec.wavelength_max_m, n_components=4, components=components,
-                fade_length_m=spec.fade_length_m,
-            )  # fmt: skip
-        except (IrregularityError, NotImplementedError) as exc:
-            irr.fail(str(exc))
+        spec = _spectrum_spec(irr, params)
     elif kind == "measured":
-        name = irr.string("file")
-        file = Path(name)
-        if not file.is_absolute() and base_dir is not None:
-            file = base_dir / file
-        if not file.exists():
-            irr.fail(f"irregularity file {str(file)!r} not found", key="file")
-        spec = IrregularitySpec(
-            type=kind,
-            file=str(file),
-            fade_length_m=irr.quantity("fade_length", "m", default=10.0, minimum=0.0),
-        )
-        try:
-            read_measured_irregularities(spec.file)
-        except IrregularityError as exc:
-            raise InputError(str(exc), source=source, key="irregularities.file") from exc
+        spec = _measured_spec(irr, params, base_dir, source)
+    else:
+        spec = IrregularitySpec(type=kind)
     return Track(
-        name=top.string("name"),
+        name=TRACK.read(top, "name"),
         rail_profile=rail,
-        inclination=inclination,
-        gauge_m=gauge,
-        geometry=geometry_type,
+        inclination=_inclination_value(written, angle),
+        gauge_m=TRACK.read(top, "gauge"),
+        geometry=geometry,
         irregularity=spec,
-        description=top.string("description", default=""),
+        description=TRACK.read(top, "description"),
         source=source,
     )
+
+
+def _inclination_value(written: object, angle_rad: float) -> str | float:
+    """The inclination as written if the model's parser reads it to the same angle (a ratio,
+    ``"none"``: kept for display), else the angle in rad."""
+    if isinstance(written, str):
+        try:
+            if parse_inclination(written) == angle_rad:
+                return written
+        except ValueError:
+            pass
+    return angle_rad
+
+
+def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:
+    components = p["components"]
+    if len(set(components)) != len(components):
+        irr.fail(f"components listed twice: {list(components)}", key="components")
+    spec = IrregularitySpec(
+        type="spectrum",
+        spectrum=p["spectrum"],
+        seed=p["seed"],
+        wavelength_min_m=p["wavelength_min"],
+        wavelength_max_m=p["wavelength_max"],
+        components=components,
+        amplitude_scale=p["amplitude_scale"],
+        length_m=p["length"],
+        fade_length_m=p["fade_length"],
+    )
+    if spec.wavelength_min_m >= spec.wavelength_max_m:
+        irr.fail("wavelength_min must be below wavelength_max", key="wavelength_min")
+    if spec.length_m is not None:
+        check_record_length(spec, spec.length_m, lambda m: irr.fail(m, key="length"))
+    try:  # fail early on spectrum/component combinations the spectrum does not have
+        synthesize_irregularities(
+            spec.spectrum, 4.0 * spec.fade_length_m + 100.0, 0, spec.wavelength_min_m,
+            spec.wavelength_max_m, n_components=4, components=components,
+            fade_length_m=spec.fade_length_m,
+        )  # fmt: skip
+    except (IrregularityError, NotImplementedError) as exc:
+        irr.fail(str(exc))
+    return spec
+
+
+def check_record_length(spec: IrregularitySpec, length_m: float, fail) -> None:
+    """Refuse a synthetic record too long for memory or time (``fail(message)`` raises)."""
+    if not length_m <= MAX_LENGTH_M:
+        fail(f"a record of {length_m:g} m is longer than {MAX_LENGTH_M:g} m: is a unit wrong?")
+    n = synthetic_samples(length_m, spec.wavelength_min_m)
+    if n > MAX_SAMPLES:
+        fail(
+            f"a record of {length_m:g} m at wavelength_min {spec.wavelength_min_m:g} m needs "
+            f"{n:.3g} samples per signal, more than {MAX_SAMPLES:.3g}: shorten it or raise "
+            "wavelength_min"
+        )
+    if 2.0 * spec.fade_length_m > length_m:
+        fail(f"fade_length {spec.fade_length_m:g} m is more than half the record ({length_m:g} m)")
+
+
+def _measured_spec(irr: Section, p: dict, base_dir: Path | None, source: str) -> IrregularitySpec:
+    file = Path(p["file"])
+    if not file.is_absolute() and base_dir is not None:
+        file = base_dir / file
+    if not file.is_file():
+        what = "is a folder, not a file" if file.is_dir() else "not found"
+        irr.fail(f"irregularity file {str(file)!r} {what}", key="file")
+    spec = IrregularitySpec(type="measured", file=str(file), fade_length_m=p["fade_length"])
+    try:
+        read_measured_irregularities(spec.file)
+    except IrregularityError as exc:
+        raise InputError(str(exc), source=source, key="irregularities.file") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        irr.fail(f"cannot read {str(file)!r}: {exc}", key="file")
+    return spec

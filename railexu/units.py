@@ -48,7 +48,7 @@ _BASE: dict[str, tuple[float, tuple[int, int, int]]] = {
 
 
 class UnitError(InputError):
-    """A value whose unit is unknown or has the wrong dimension."""
+    """A value whose unit is unknown or has the wrong dimension (an :class:`InputError`)."""
 
 
 def _parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
@@ -97,6 +97,11 @@ def to_si(value: object, unit: str) -> float:
         return float(value)
     if not isinstance(value, str):
         raise UnitError(f"expected a number in {unit} or a string like '12 {unit}', got {value!r}")
+    if re.fullmatch(r"\s*[-+]?[0-9_]+(?::[0-9_]+)+(?:\.[0-9_]*)?\s*", value):
+        raise UnitError(
+            f"{value!r} is a ratio or a sexagesimal number (YAML 1.1 would read 1:30 as 90), "
+            f"not a value in {unit}: write the number, e.g. '12 {unit}'"
+        )
     match = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*", value)
     if not match:
         raise UnitError(f"expected '<number> <unit>' (e.g. '12 {unit}'), got {value!r}")

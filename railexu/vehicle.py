@@ -1,29 +1,55 @@
-"""Vehicle files: schema, units, validation (``docs/vehicle-format.md`` documents the format).
+"""Vehicle files: the validated :class:`Vehicle` and its loader (``docs/vehicle-format.md``).
 
 A vehicle is a set of rigid bodies (car body, bogie frames, ...), wheelsets, suspension elements
 between them and constant external loads. Positions are in **vehicle axes**: ``x`` forward from
 the vehicle centre, ``y`` to the left, ``z`` up from the top of the rails, in metres. Every
 number may carry a unit (``"51.6 t"``, ``"1.2 MN/m"``); plain numbers are SI.
 
-:func:`load_vehicle` reads a file (with ``--set``-style overrides), checks it strictly (unknown or
-missing keys, wrong types, units or ranges are errors that name the file, the line and the key)
-and returns a :class:`Vehicle`.
+:func:`load_vehicle` reads a file or a shipped vehicle by name (with ``--set``-style overrides),
+checks it against :data:`railexu.vehicle_schema.VEHICLE` (unknown or missing keys, wrong types,
+units or ranges are errors that name the file, the line and the key), checks its topology
+(:mod:`railexu.vehicle_checks`) and returns a :class:`Vehicle`. :meth:`Vehicle.replace` gives a
+changed, re-validated copy with the same paths as ``--set``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-import numpy as np
-
-from .contact.evaluation import ContactParameterError, ContactParameters
-from .inputs import Section, load_yaml_with_overrides, resolve_file
+from .catalog import find_input
+from .contact.parameters import ContactParameterError, ContactParameters
+from .inputs import LineMap, Section, load_yaml_with_overrides, resolve_file
+from .inputs.overrides import set_values
 from .profiles import ProfileError, wheel_profile
+from .vehicle_checks import check_topology
+from .vehicle_schema import (
+    AXES,
+    BODY,
+    CONTACT,
+    ELEMENT_TYPE,
+    ELEMENTS,
+    FORMAT_VERSION,
+    LOAD,
+    VEHICLE,
+    WHEELSET,
+)
 
-FORMAT_VERSION = 1
-AXES = ("x", "y", "z")
+__all__ = [
+    "AXES",
+    "FORMAT_VERSION",
+    "Body",
+    "BumpStop",
+    "Load",
+    "SpringDamper",
+    "TorsionSpring",
+    "Vehicle",
+    "Wheelset",
+    "load_vehicle",
+    "vehicle_from_dict",
+]
 
 
 @dataclass(frozen=True)
@@ -40,7 +66,11 @@ class Body:
 
 @dataclass(frozen=True)
 class Wheelset:
-    """A wheelset: axle along y, centre at the nominal rolling radius above the rails."""
+    """A wheelset: axle along y, centre at the nominal rolling radius above the rails.
+
+    ``wheel_profile`` and ``nominal_radius_m`` are the left wheel's (the common value when both
+    wheels are alike); ``wheel_profile_right`` and ``nominal_radius_right_m`` the right wheel's
+    (equal to the left ones unless the file gives ``{left: ..., right: ...}``)."""
 
     name: str
     position_x_m: float
@@ -51,10 +81,26 @@ class Wheelset:
     flange_back_distance_m: float
     axle_load_N: float | None = None  # declared static axle load, checked against the statics
     estimate: str = ""
+    wheel_profile_right: str = ""
+    nominal_radius_right_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not self.wheel_profile_right:
+            object.__setattr__(self, "wheel_profile_right", self.wheel_profile)
+        if not self.nominal_radius_right_m:
+            object.__setattr__(self, "nominal_radius_right_m", self.nominal_radius_m)
 
     @property
     def position_m(self) -> tuple[float, float, float]:
         return (self.position_x_m, 0.0, self.nominal_radius_m)
+
+    @property
+    def symmetric(self) -> bool:
+        """Both wheels have the same profile and radius."""
+        return (
+            self.wheel_profile == self.wheel_profile_right
+            and self.nominal_radius_m == self.nominal_radius_right_m
+        )
 
 
 @dataclass(frozen=True)
@@ -119,7 +165,12 @@ SuspensionElement = SpringDamper | TorsionSpring | BumpStop
 
 @dataclass(frozen=True)
 class Vehicle:
-    """A validated vehicle."""
+    """A validated vehicle.
+
+    Derived quantities: :attr:`total_mass_kg`, :attr:`primary_yaw_stiffness_N_m_per_rad`,
+    :attr:`wheelbases_m`; a changed copy: :meth:`replace`. Static axle loads need the statics:
+    :func:`railexu.statics.static_axle_loads_N`.
+    """
 
     name: str
     description: str
@@ -129,72 +180,101 @@ class Vehicle:
     loads: tuple[Load, ...]
     contact: ContactParameters
     speed_body: str
-    gravity_m_per_s2: float = 9.81
+    gravity_m_per_s2: float = VEHICLE.default("gravity")
     sources: tuple[str, ...] = ()
     source: str = ""
     raw: dict = field(default_factory=dict, repr=False, compare=False)
+    lines: dict = field(default_factory=dict, repr=False, compare=False)
+    base_dir: Path | None = field(default=None, repr=False, compare=False)
 
     def body_names(self) -> list[str]:
         return [b.name for b in self.bodies] + [w.name for w in self.wheelsets]
 
+    @property
     def total_mass_kg(self) -> float:
+        """Mass of every body and wheelset [kg] (external loads not included)."""
         return sum(b.mass_kg for b in self.bodies) + sum(w.mass_kg for w in self.wheelsets)
 
     def wheelset(self, name: str) -> Wheelset:
         return next(w for w in self.wheelsets if w.name == name)
 
+    @property
+    def primary_yaw_stiffness_N_m_per_rad(self) -> dict[str, float]:
+        """Per wheelset, the yaw stiffness of the springs on it about its centre [N m/rad]:
+        sum of ``k_x y^2`` over its spring-dampers, i.e. ``2 k_x b^2`` for one pair of axlebox
+        springs ``2 b`` apart (the springs act on the axle, so their ``x`` offset is 0)."""
+        out = {}
+        for ws in self.wheelsets:
+            out[ws.name] = (
+                sum(
+                    el.stiffness_N_per_m[0] * el.position_m[1] ** 2
+                    for el in self.suspension
+                    if isinstance(el, SpringDamper) and ws.name in el.bodies
+                )
+                + 0.0
+            )
+        return out
 
-TOP_KEYS = (
-    "format_version",
-    "name",
-    "description",
-    "sources",
-    "speed_body",
-    "gravity",
-    "contact",
-    "bodies",
-    "wheelsets",
-    "suspension",
-    "loads",
-)
-BODY_KEYS = ("mass", "inertia", "position", "estimate", "notes")
-WHEELSET_KEYS = (
-    "position",
-    "mass",
-    "inertia",
-    "wheel_profile",
-    "nominal_radius",
-    "flange_back_distance",
-    "axle_load",
-    "estimate",
-    "notes",
-)
-COMMON_ELEMENT_KEYS = ("type", "bodies", "position", "mirror_y", "estimate", "notes")
-ELEMENT_KEYS = {
-    "spring_damper": (*COMMON_ELEMENT_KEYS, "stiffness", "damping"),
-    "torsion_spring": (*COMMON_ELEMENT_KEYS, "axis", "stiffness", "damping"),
-    "bump_stop": (*COMMON_ELEMENT_KEYS, "direction", "clearance", "stiffness", "damping"),
-}
-LOAD_KEYS = ("body", "position", "force", "mirror_y", "static", "estimate", "notes")
-CONTACT_KEYS = (
-    "friction",
-    "creep_model",
-    "shear_modulus",
-    "poisson",
-    "damping_model",
-    "normal_damping",
-    "polach_2005",
-    "scan_step",
-)
+    @property
+    def wheelbases_m(self) -> dict[str, float]:
+        """Per body carrying two or more wheelsets directly (a bogie frame, a two-axle car),
+        the distance between its outermost axles [m]."""
+        carried: dict[str, set[str]] = {}
+        wheelsets = {w.name: w for w in self.wheelsets}
+        for el in self.suspension:
+            a, b = el.bodies
+            for body, other in ((a, b), (b, a)):
+                if body not in wheelsets and other in wheelsets:
+                    carried.setdefault(body, set()).add(other)
+        return {
+            body: max(wheelsets[w].position_x_m for w in ws)
+            - min(wheelsets[w].position_x_m for w in ws)
+            for body, ws in carried.items()
+            if len(ws) >= 2
+        }
+
+    def replace(self, *changes: Any, **named: Any) -> Vehicle:
+        """A new validated vehicle with some values changed, by the paths of ``--set``.
+
+        ``vehicle.replace("suspension.primary_ws*.stiffness.x", "4 MN/m")``; several pairs:
+        ``replace("a.b", 1, "c.d", "2 t")``, ``replace({"a.b": 1, "c.d": "2 t"})`` or
+        ``replace(("a.b", 1), ("c.d", "2 t"))``. Values are Python values or text with units;
+        patterns (``*``, ``?``) match several keys as in ``--set``.
+
+        Raises:
+            InputError: an unknown path or an invalid value (validated like a file).
+        """
+        pairs = _change_pairs(changes, named)
+        data = set_values(self.raw, pairs, source="Vehicle.replace")
+        return vehicle_from_dict(data, self.source, self.lines, self.base_dir)
 
 
-def load_vehicle(path: str | Path, overrides: Iterable[str] = ()) -> Vehicle:
-    """Read and validate a vehicle file, applying ``dotted.key=value`` overrides first.
+def _change_pairs(changes: tuple, named: Mapping[str, Any]) -> list[tuple[str, Any]]:
+    from .errors import InputError
+
+    pairs: list[tuple[str, Any]] = []
+    if len(changes) == 1 and isinstance(changes[0], Mapping):
+        pairs.extend(changes[0].items())
+    elif changes and all(isinstance(c, tuple) and len(c) == 2 for c in changes):
+        pairs.extend(changes)
+    elif len(changes) % 2 == 0:
+        pairs.extend(zip(changes[::2], changes[1::2], strict=True))
+    else:
+        raise InputError("Vehicle.replace takes path, value pairs, (path, value) tuples or a dict")
+    pairs.extend(named.items())
+    if not pairs or not all(isinstance(p, str) for p, _ in pairs):
+        raise InputError("Vehicle.replace: give at least one 'dotted.path', value pair")
+    return pairs
+
+
+def load_vehicle(path: str | Path, overrides: str | Iterable[str] = ()) -> Vehicle:
+    """Read and validate a vehicle file (or a shipped vehicle by name, e.g. ``"eu07"``),
+    applying ``dotted.key=value`` overrides first (one string is one override).
 
     Raises:
         InputError: any problem, with file, line, key and what was expected.
     """
-    path = Path(path)
+    path = find_input("vehicle", path)
     data, lines = load_yaml_with_overrides(path, overrides)
     return vehicle_from_dict(data, source=str(path), lines=lines, base_dir=path.parent)
 
@@ -206,162 +286,153 @@ def vehicle_from_dict(
     base_dir: Path | None = None,
 ) -> Vehicle:
     """Validate raw vehicle data (as read from YAML) into a :class:`Vehicle`."""
-    top = Section(data, source, lines, (), TOP_KEYS)
-    version = top.integer("format_version")
-    if version != FORMAT_VERSION:
-        top.fail(f"format_version {version} is not supported (this railexu reads {FORMAT_VERSION})")
-    name = top.string("name")
-    description = top.string("description", default="")
-    sources = top.string_list("sources")
-    gravity = top.quantity("gravity", "m/s^2", default=9.81, positive=True)
-
-    bodies = []
-    for body_name, _ in top.items("bodies", required=False):
-        sec = top.child("bodies", body_name, BODY_KEYS)
-        inertia = sec.vector("inertia", "kg m^2", components=("roll", "pitch", "yaw"))
-        _check_inertia(sec, inertia)
-        bodies.append(
-            Body(
-                name=str(body_name),
-                mass_kg=sec.quantity("mass", "kg", positive=True),
-                inertia_kg_m2=inertia,  # type: ignore[arg-type]
-                position_m=sec.vector("position", "m"),  # type: ignore[arg-type]
-                estimate=sec.string("estimate", default=""),
-            )
-        )
-
-    wheelsets = []
-    for ws_name, _ in top.items("wheelsets"):
-        sec = top.child("wheelsets", ws_name, WHEELSET_KEYS)
-        inertia = sec.vector("inertia", "kg m^2", components=("roll", "yaw", "spin"))
-        _check_inertia(sec, inertia)
-        profile = sec.string("wheel_profile")
-        resolved = resolve_file(profile, base_dir)
-        try:
-            wheel_profile(resolved)
-        except ProfileError as exc:
-            sec.fail(str(exc), key="wheel_profile")
-        x = sec.vector("position", "m", n=1, components=("x",))[0]
-        axle_load = sec.quantity("axle_load", "N", required=False, positive=True)
-        wheelsets.append(
-            Wheelset(
-                name=str(ws_name),
-                position_x_m=x,
-                mass_kg=sec.quantity("mass", "kg", positive=True),
-                inertia_kg_m2=inertia,  # type: ignore[arg-type]
-                wheel_profile=resolved,
-                nominal_radius_m=sec.quantity(
-                    "nominal_radius", "m", positive=True, minimum=0.2, maximum=1.0
-                ),
-                flange_back_distance_m=sec.quantity(
-                    "flange_back_distance", "m", default=1.360, minimum=0.9, maximum=1.7
-                ),
-                axle_load_N=None if np.isnan(axle_load) else axle_load,
-                estimate=sec.string("estimate", default=""),
-            )
-        )
+    lines = lines if lines is not None else LineMap()
+    top = VEHICLE.wrap(data, source, lines)
+    if VEHICLE.read(top, "format_version") == 1:
+        data, lines = _upgrade_version_1(data, lines)
+        top = VEHICLE.wrap(data, source, lines)
+    bodies = [_body(top.child("bodies", n, BODY.keys()), n) for n, _ in top.items("bodies", False)]
+    wheelsets = [
+        _wheelset(top.child("wheelsets", n, WHEELSET.keys()), n, base_dir)
+        for n, _ in top.items("wheelsets")
+    ]
     if not wheelsets:
         top.fail("a vehicle needs at least one wheelset", key="wheelsets")
-
     names = [b.name for b in bodies] + [w.name for w in wheelsets]
     duplicates = {n for n in names if names.count(n) > 1}
     if duplicates:
         top.fail(f"names used twice among bodies and wheelsets: {', '.join(sorted(duplicates))}")
-
-    suspension: list[SuspensionElement] = []
-    for el_name, raw in top.items("suspension", required=False):
-        if not isinstance(raw, dict):
-            Section(raw, source, lines, ("suspension", el_name))
-        kind_sec = Section(raw, source, lines, ("suspension", el_name))
-        kind = kind_sec.string("type", choices=tuple(ELEMENT_KEYS))
-        sec = top.child("suspension", el_name, ELEMENT_KEYS[kind])
-        pair = sec.string_list("bodies")
-        if len(pair) != 2:
-            sec.fail(f"expected two body names [upper, lower], got {list(pair)}", key="bodies")
-        for b in pair:
-            if b not in names:
-                sec.fail(f"unknown body {b!r}.{_did_you_mean(b, names)}", key="bodies")
-        if pair[0] == pair[1]:
-            sec.fail("an element must connect two different bodies", key="bodies")
-        position = sec.vector("position", "m")
-        mirror = sec.boolean("mirror_y", default=False)
-        estimate = sec.string("estimate", default="")
-        if kind == "spring_damper":
-            stiffness = sec.vector("stiffness", "N/m", default=(0, 0, 0), nonnegative=True)
-            damping = sec.vector("damping", "N s/m", default=(0, 0, 0), nonnegative=True)
-            if not (any(stiffness) or any(damping)):
-                sec.fail("give a stiffness or a damping", key="stiffness")
-
-            def make(n, p, st=stiffness, dm=damping, pr=pair, est=estimate):
-                return SpringDamper(n, pr, p, st, dm, est)  # type: ignore[arg-type]
-
-        elif kind == "torsion_spring":
-            axis = sec.string("axis", choices=AXES)
-            k = sec.quantity("stiffness", "N m/rad", default=0.0, minimum=0.0)
-            c = sec.quantity("damping", "N m s/rad", default=0.0, minimum=0.0)
-
-            def make(n, p, ax=axis, k=k, c=c, pr=pair, est=estimate):
-                return TorsionSpring(n, pr, p, ax, k, c, est)  # type: ignore[arg-type]
-
-        else:
-            direction = sec.string("direction", choices=AXES)
-            clearance = sec.quantity("clearance", "m", minimum=0.0)
-            k = sec.quantity("stiffness", "N/m", positive=True)
-            c = sec.quantity("damping", "N s/m", default=0.0, minimum=0.0)
-
-            def make(n, p, d=direction, cl=clearance, k=k, c=c, pr=pair, est=estimate):
-                return BumpStop(n, pr, p, d, cl, k, c, est)  # type: ignore[arg-type]
-
-        if mirror and position[1] == 0.0:
-            sec.fail("mirror_y needs a lateral position y != 0", key="position")
-        for n, p in _mirrored(str(el_name), position, mirror):
-            suspension.append(make(n, p))
-
-    loads: list[Load] = []
-    for load_name, _ in top.items("loads", required=False):
-        sec = top.child("loads", load_name, LOAD_KEYS)
-        body = sec.string("body")
-        if body not in names:
-            sec.fail(f"unknown body {body!r}.{_did_you_mean(body, names)}", key="body")
-        force = sec.vector("force", "N")
-        position = sec.vector("position", "m")
-        est = sec.string("estimate", default="")
-        mirror = sec.boolean("mirror_y", default=False)
-        if mirror and position[1] == 0.0:
-            sec.fail("mirror_y needs a lateral position y != 0", key="position")
-        static = sec.boolean("static", default=True)
-        for n, p in _mirrored(str(load_name), position, mirror):
-            loads.append(Load(n, body, p, force, est, static))  # type: ignore[arg-type]
-
-    default_speed_body = bodies[0].name if bodies else wheelsets[0].name
-    speed_body = top.string("speed_body", default=default_speed_body)
+    suspension = [el for n, _ in top.items("suspension", False) for el in _element(top, n, names)]
+    loads = [ld for n, _ in top.items("loads", False) for ld in _loads(top, n, names)]
+    speed_body = VEHICLE.read(top, "speed_body") or names[0]
     if speed_body not in names:
-        top.fail(
-            f"unknown body {speed_body!r}.{_did_you_mean(speed_body, names)}", key="speed_body"
-        )
-
-    contact = _contact_parameters(top.section("contact", CONTACT_KEYS, required=False))
-    return Vehicle(
-        name=name,
-        description=description,
+        top.fail(f"unknown body {speed_body!r}.{_did_you_mean(speed_body, names)}",
+                 key="speed_body")  # fmt: skip
+    vehicle = Vehicle(
+        name=VEHICLE.read(top, "name"),
+        description=VEHICLE.read(top, "description"),
         bodies=tuple(bodies),
         wheelsets=tuple(wheelsets),
         suspension=tuple(suspension),
         loads=tuple(loads),
-        contact=contact,
+        contact=_contact_parameters(CONTACT.section(top, "contact")),
         speed_body=speed_body,
-        gravity_m_per_s2=gravity,
-        sources=sources,
+        gravity_m_per_s2=VEHICLE.read(top, "gravity"),
+        sources=VEHICLE.read(top, "sources"),
         source=source,
         raw=data,
+        lines=lines,
+        base_dir=base_dir,
     )
+    check_topology(vehicle, top)
+    return vehicle
+
+
+def _body(sec: Section, name: Any) -> Body:
+    inertia = BODY.read(sec, "inertia")
+    _check_inertia(sec, inertia)
+    return Body(
+        name=str(name),
+        mass_kg=BODY.read(sec, "mass"),
+        inertia_kg_m2=inertia,
+        position_m=BODY.read(sec, "position"),
+        estimate=BODY.read(sec, "estimate"),
+    )
+
+
+def _wheelset(sec: Section, name: Any, base_dir: Path | None) -> Wheelset:
+    inertia = WHEELSET.read(sec, "inertia")
+    _check_inertia(sec, inertia)
+    profiles = []
+    raw = sec.data.get("wheel_profile")
+    for side, profile in zip(("left", "right"), WHEELSET.read(sec, "wheel_profile"), strict=True):
+        resolved = resolve_file(profile, base_dir)
+        try:
+            wheel_profile(resolved)
+        except ProfileError as exc:
+            if isinstance(raw, dict):
+                Section(raw, sec.source, sec.lines, (*sec.path, "wheel_profile")).fail(
+                    str(exc), key=side
+                )
+            sec.fail(str(exc), key="wheel_profile")
+        profiles.append(resolved)
+    left_radius, right_radius = WHEELSET.read(sec, "nominal_radius")
+    return Wheelset(
+        name=str(name),
+        position_x_m=WHEELSET.read(sec, "position")[0],
+        mass_kg=WHEELSET.read(sec, "mass"),
+        inertia_kg_m2=inertia,
+        wheel_profile=profiles[0],
+        nominal_radius_m=left_radius,
+        flange_back_distance_m=WHEELSET.read(sec, "flange_back_distance"),
+        axle_load_N=WHEELSET.read(sec, "axle_load"),
+        estimate=WHEELSET.read(sec, "estimate"),
+        wheel_profile_right=profiles[1],
+        nominal_radius_right_m=right_radius,
+    )
+
+
+def _element(top: Section, name: Any, names: list[str]) -> list[SuspensionElement]:
+    kind = top.child("suspension", name).string("type", choices=ELEMENT_TYPE.allowed_choices())
+    schema = ELEMENTS[kind]
+    sec = top.child("suspension", name, ("type", *schema.keys()))
+    pair = schema.read(sec, "bodies")
+    if len(pair) != 2:
+        sec.fail(f"expected two body names [upper, lower], got {list(pair)}", key="bodies")
+    for b in pair:
+        if b not in names:
+            sec.fail(f"unknown body {b!r}.{_did_you_mean(b, names)}", key="bodies")
+    if pair[0] == pair[1]:
+        sec.fail("an element must connect two different bodies", key="bodies")
+    position = schema.read(sec, "position")
+    estimate = schema.read(sec, "estimate")
+    if kind == "spring_damper":
+        stiffness, damping = schema.read(sec, "stiffness"), schema.read(sec, "damping")
+        if not (any(stiffness) or any(damping)):
+            sec.fail("give a stiffness or a damping", key="stiffness")
+
+        def make(n, p):
+            return SpringDamper(n, pair, p, stiffness, damping, estimate)
+
+    elif kind == "torsion_spring":
+        axis, k, c = (schema.read(sec, key) for key in ("axis", "stiffness", "damping"))
+
+        def make(n, p):
+            return TorsionSpring(n, pair, p, axis, k, c, estimate)
+
+    else:
+        values = [schema.read(sec, k) for k in ("direction", "clearance", "stiffness", "damping")]
+
+        def make(n, p):
+            return BumpStop(n, pair, p, *values, estimate)
+
+    mirror = _mirror(sec, schema, position)
+    return [make(n, p) for n, p in _mirrored(str(name), position, mirror)]
+
+
+def _loads(top: Section, name: Any, names: list[str]) -> list[Load]:
+    sec = top.child("loads", name, LOAD.keys())
+    body = LOAD.read(sec, "body")
+    if body not in names:
+        sec.fail(f"unknown body {body!r}.{_did_you_mean(body, names)}", key="body")
+    force, position = LOAD.read(sec, "force"), LOAD.read(sec, "position")
+    estimate, static = LOAD.read(sec, "estimate"), LOAD.read(sec, "static")
+    mirror = _mirror(sec, LOAD, position)
+    return [
+        Load(n, body, p, force, estimate, static) for n, p in _mirrored(str(name), position, mirror)
+    ]
+
+
+def _mirror(sec: Section, schema, position) -> bool:
+    mirror = schema.read(sec, "mirror_y")
+    if mirror and position[1] == 0.0:
+        sec.fail("mirror_y needs a lateral position y != 0", key="position")
+    return mirror
 
 
 def _check_inertia(sec: Section, inertia: tuple[float, ...]) -> None:
     """Principal moments of inertia of a rigid body are positive and satisfy the triangle
     inequality (each at most the sum of the other two)."""
-    if min(inertia) <= 0.0:
-        sec.fail("inertias must be > 0 kg m^2", key="inertia")
     a, b, c = inertia
     if a > b + c or b > a + c or c > a + b:
         sec.fail(
@@ -379,38 +450,76 @@ def _mirrored(name: str, position, mirror: bool):
 
 
 def _did_you_mean(name: str, names: list[str]) -> str:
-    import difflib
+    from .errors import did_you_mean
 
-    close = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
-    return f" Did you mean {close[0]!r}?" if close else f" Known: {', '.join(names)}"
+    return did_you_mean(name, names)
 
 
 def _contact_parameters(sec: Section) -> ContactParameters:
-    defaults = ContactParameters()
-    kwargs = dict(
-        friction=sec.quantity("friction", "1", default=defaults.friction, minimum=0.0),
-        creep_model=sec.string("creep_model", default=defaults.creep_model),
-        shear_modulus_Pa=sec.quantity(
-            "shear_modulus", "Pa", default=defaults.shear_modulus_Pa, positive=True
-        ),
-        poisson=sec.quantity("poisson", "1", default=defaults.poisson, minimum=0.0, maximum=0.499),
-        damping_model=sec.string(
-            "damping_model", default=defaults.damping_model, choices=("linear", "hunt_crossley")
-        ),
-        scan_step_m=sec.quantity("scan_step", "m", default=defaults.scan_step_m, positive=True),
+    creep, creep_params = CONTACT.read(sec, "creep")
+    damping_model, damping_params = CONTACT.read(sec, "normal_damping")
+    kwargs: dict[str, Any] = dict(
+        friction=CONTACT.read(sec, "friction"),
+        creep_model=creep,
+        shear_modulus_Pa=CONTACT.read(sec, "shear_modulus"),
+        poisson=CONTACT.read(sec, "poisson"),
+        damping_model=damping_model,
+        damping=damping_params["coefficient"],
+        scan_step_m=CONTACT.read(sec, "scan_step"),
     )
-    unit = "N s/m" if kwargs["damping_model"] == "linear" else "s/m"
-    kwargs["damping"] = sec.quantity("normal_damping", unit, default=defaults.damping, minimum=0.0)
-    if sec.has("polach_2005"):
-        p = sec.section("polach_2005", ("k_a", "k_s", "A", "B"))
-        kwargs["polach_2005"] = (
-            p.quantity("k_a", "1", positive=True, maximum=1.0),
-            p.quantity("k_s", "1", positive=True, maximum=1.0),
-            p.quantity("A", "1", positive=True, maximum=1.0),
-            p.quantity("B", "s/m", minimum=0.0),
-        )
+    if creep == "polach_2005":
+        kwargs["polach_2005"] = tuple(creep_params[k] for k in ("k_a", "k_s", "A", "B"))
     try:
         return ContactParameters(**kwargs)
     except (ContactParameterError, ValueError) as exc:
         sec.fail(str(exc))
         raise  # unreachable
+
+
+# -- format version 1 -----------------------------------------------------------------------------
+_V1_CONTACT = ("creep_model", "damping_model", "normal_damping", "polach_2005")
+
+
+def _upgrade_version_1(data: dict, lines: dict) -> tuple[dict, dict]:
+    """Version 1 files are read as version 2: their contact keys
+    ``creep_model`` + ``polach_2005`` become ``creep: {model: ..., k_a: ...}`` and
+    ``damping_model`` + ``normal_damping`` (whose unit followed the model) become
+    ``normal_damping: {model: ..., coefficient: ...}``; every other key is unchanged."""
+    contact = data.get("contact")
+    if not isinstance(contact, dict) or not any(k in contact for k in _V1_CONTACT):
+        return data, lines
+    if isinstance(contact.get("normal_damping"), dict) or "creep" in contact:
+        return data, lines  # already written the version 2 way
+    new = dict(contact)
+    lines = lines.copy() if isinstance(lines, LineMap) else LineMap(lines)
+    creep: dict[str, Any] = {}
+    if "creep_model" in new:
+        creep["model"] = new.pop("creep_model")
+        _move_line(lines, ("contact", "creep_model"), ("contact", "creep", "model"))
+    polach = new.pop("polach_2005", None)
+    if isinstance(polach, dict) and creep.get("model") == "polach_2005":
+        creep.update(polach)
+        for k in polach:
+            _move_line(lines, ("contact", "polach_2005", k), ("contact", "creep", k))
+    if creep:
+        new["creep"] = creep
+    damping: dict[str, Any] = {}
+    if "damping_model" in new:
+        damping["model"] = new.pop("damping_model")
+        _move_line(lines, ("contact", "damping_model"), ("contact", "normal_damping", "model"))
+    if "normal_damping" in new:
+        damping.setdefault("model", ContactParameters().damping_model)
+        damping["coefficient"] = new.pop("normal_damping")
+    elif damping:  # version 1 took the one default coefficient whatever the model
+        damping["coefficient"] = ContactParameters().damping
+        _move_line(lines, ("contact", "normal_damping"), ("contact", "normal_damping",
+                                                          "coefficient"))  # fmt: skip
+    if damping:
+        new["normal_damping"] = damping
+    return {**data, "contact": new}, lines
+
+
+def _move_line(lines: dict, old: tuple, new: tuple) -> None:
+    if old in lines:
+        lines[new] = lines[old]
+        lines.setdefault(new[:-1], lines[old])

@@ -95,7 +95,7 @@ def test_static_equilibrium_wheel_loads_and_symmetry():
         vehicle, None, RunSettings(speed_m_per_s=10.0, distance_m=20.0, initial_lateral_m=0.0)
     )
     ts = result.timeseries
-    weight = vehicle.total_mass_kg() * vehicle.gravity_m_per_s2
+    weight = vehicle.total_mass_kg * vehicle.gravity_m_per_s2
     q_cols = [c for c in ts.columns if c.endswith("_Q_N")]
     total = sum(ts[c] for c in q_cols)
     # vertical contact forces carry the weight at every instant (no settling transient): within

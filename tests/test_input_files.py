@@ -23,7 +23,7 @@ TRACKS = ROOT / "tracks"
 def test_shipped_vehicles_load_and_stand_in_equilibrium(name):
     vehicle = load_vehicle(VEHICLES / f"{name}.yaml")
     statics = static_equilibrium(vehicle, [0.75] * len(vehicle.wheelsets))
-    weight = vehicle.total_mass_kg() * vehicle.gravity_m_per_s2
+    weight = vehicle.total_mass_kg * vehicle.gravity_m_per_s2
     external = -sum(load.force_N[2] for load in vehicle.loads)
     # the wheel loads carry the weight and the vertical loads (force balance, 1e-9 relative)
     assert np.sum(statics.wheel_loads_N) == pytest.approx(weight + external, rel=1e-9)
@@ -35,7 +35,7 @@ def test_eu07_data():
     """80 t, Bo'Bo', 1250 mm wheels, S1002; 196.2 kN per axle; every value that no public source
     gives is marked as an estimate with its basis."""
     vehicle = load_vehicle(VEHICLES / "eu07.yaml")
-    assert vehicle.total_mass_kg() == pytest.approx(80000.0, rel=1e-9)
+    assert vehicle.total_mass_kg == pytest.approx(80000.0, rel=1e-9)
     assert len(vehicle.wheelsets) == 4 and len(vehicle.bodies) == 3
     for ws in vehicle.wheelsets:
         assert ws.nominal_radius_m == pytest.approx(0.625)
@@ -54,7 +54,7 @@ def test_eu07_data():
 
 def test_manchester_coach_data():
     vehicle = load_vehicle(VEHICLES / "manchester_coach.yaml")
-    assert vehicle.total_mass_kg() == pytest.approx(32000 + 2 * 2615 + 4 * 1813)
+    assert vehicle.total_mass_kg == pytest.approx(32000 + 2 * 2615 + 4 * 1813)
     primary = next(el for el in vehicle.suspension if el.name == "primary_ws1_left")
     assert primary.stiffness_N_per_m == pytest.approx((31391e3, 3884e3, 1220e3))
 
@@ -160,7 +160,7 @@ def test_yaml_syntax_error_has_line(tmp_path):
 
 
 def test_wrong_format_version(tmp_path):
-    message = _error(tmp_path, _eu07_text().replace("format_version: 1", "format_version: 7"))
+    message = _error(tmp_path, _eu07_text().replace("format_version: 2", "format_version: 7"))
     assert "format_version 7 is not supported" in message
 
 
@@ -191,3 +191,141 @@ def test_bad_track(tmp_path):
     )
     with pytest.raises(InputError, match="x.csv' not found"):
         load_track(_write(tmp_path, text, "track2.yaml"))
+
+
+# ----------------------------------------------------------------------------------------------
+# A vehicle changed in code, derived quantities, shipped names (issue 7)
+# ----------------------------------------------------------------------------------------------
+
+
+def test_replace_returns_a_new_validated_vehicle_with_set_paths():
+    eu07 = load_vehicle("eu07")  # a shipped name
+    soft = eu07.replace("suspension.primary_ws*.stiffness.x", "4 MN/m")
+    primaries = [el for el in soft.suspension if el.name.startswith("primary_ws")]
+    assert len(primaries) == 8 and all(el.stiffness_N_per_m[0] == 4e6 for el in primaries)
+    assert all(el.stiffness_N_per_m[0] == 8e6 for el in eu07.suspension[:8])  # unchanged
+    # several pairs, in three spellings, with Python values or text with units
+    a = eu07.replace("bodies.car_body.mass", "47 t", "wheelsets.ws1.mass", 4300.0)
+    b = eu07.replace({"bodies.car_body.mass": "47 t", "wheelsets.ws1.mass": 4300.0})
+    c = eu07.replace(("bodies.car_body.mass", 47000), ("wheelsets.ws1.mass", "4.3 t"))
+    for v in (a, b, c):
+        assert v.bodies[0].mass_kg == 47000.0 and v.wheelset("ws1").mass_kg == 4300.0
+        assert v.total_mass_kg == pytest.approx(80000.0 + 600.0 + 50.0)
+    # validated like a file: a bad value or path is an InputError
+    with pytest.raises(InputError, match="must be > 0 kg"):
+        eu07.replace("bodies.car_body.mass", "-1 t")
+    with pytest.raises(InputError, match="Did you mean 'bodies'"):
+        eu07.replace("bodys.car_body.mass", "47 t")
+
+
+def test_derived_quantities_of_the_eu07():
+    eu07 = load_vehicle("eu07")
+    # 2 k_x b^2 per wheelset: two axleboxes of 8 MN/m at b = 1.05 m (file values)
+    assert eu07.primary_yaw_stiffness_N_m_per_rad == pytest.approx(
+        {f"ws{i}": 2 * 8e6 * 1.05**2 for i in range(1, 5)}, rel=1e-12
+    )
+    assert eu07.wheelbases_m == pytest.approx({"bogie_1": 3.0, "bogie_2": 3.0}, abs=1e-12)
+    from railexu.statics import static_axle_loads_N
+
+    # 80 t on four axles: 196.2 kN each (force balance of the statics, 1e-6 relative)
+    loads = static_axle_loads_N(eu07)
+    assert loads == pytest.approx({f"ws{i}": 80000 * 9.81 / 4 for i in range(1, 5)}, rel=1e-6)
+
+
+def test_one_override_string_is_one_override():
+    """A single string is one override, not a sequence of one-character overrides."""
+    v = load_vehicle(VEHICLES / "eu07.yaml", overrides="bodies.car_body.mass=47 t")
+    assert v.bodies[0].mass_kg == 47000.0
+    t = load_track("straight", overrides="gauge=1.437 m")
+    assert t.gauge_m == pytest.approx(1.437)
+
+
+def test_shipped_names_and_paths():
+    assert load_vehicle("eu07") == load_vehicle(VEHICLES / "eu07.yaml")
+    assert load_track("straight_irregular").irregularity.spectrum == "german_low"
+    with pytest.raises(InputError, match="Did you mean 'eu07'"):
+        load_vehicle("eu70")
+    with pytest.raises(InputError, match="file not found"):
+        load_vehicle("no/such.yaml")
+
+
+def test_asymmetric_wheelset_per_side():
+    text = (VEHICLES / "wheelset.yaml").read_text()
+    text = text.replace("wheel_profile: S1002", "wheel_profile: {left: S1002, right: S1002}")
+    text = text.replace("nominal_radius: 0.625 m", "nominal_radius: {left: 625 mm, right: 0.62}")
+    data, lines = parse_yaml(text)
+    from railexu.vehicle import vehicle_from_dict
+
+    ws = vehicle_from_dict(data, "w.yaml", lines, VEHICLES).wheelsets[0]
+    assert (ws.nominal_radius_m, ws.nominal_radius_right_m) == (0.625, 0.62)
+    assert ws.wheel_profile == ws.wheel_profile_right == "S1002" and not ws.symmetric
+    # a plain value means both sides
+    plain = load_vehicle("wheelset").wheelsets[0]
+    assert plain.nominal_radius_right_m == plain.nominal_radius_m == 0.625 and plain.symmetric
+
+
+def test_format_version_1_is_read_as_version_2():
+    """Version 1 contact keys (creep_model, polach_2005, damping_model, normal_damping whose
+    unit followed damping_model) give the same contact parameters as version 2's nested ones."""
+    v1 = """\
+format_version: 1
+name: w
+contact:
+  creep_model: polach_2005
+  polach_2005: {k_a: 0.5, k_s: 0.2, A: 0.3, B: 0.1 s/m}
+  damping_model: linear
+  normal_damping: 20 kN s/m
+wheelsets:
+  ws1: {position: [0], mass: 1 t, inertia: [500, 500, 100], wheel_profile: S1002,
+        nominal_radius: 0.5}
+"""
+    v2 = v1.replace("format_version: 1", "format_version: 2").replace(
+        """  creep_model: polach_2005
+  polach_2005: {k_a: 0.5, k_s: 0.2, A: 0.3, B: 0.1 s/m}
+  damping_model: linear
+  normal_damping: 20 kN s/m""",
+        """  creep: {model: polach_2005, k_a: 0.5, k_s: 0.2, A: 0.3, B: 0.1 s/m}
+  normal_damping: {model: linear, coefficient: 20 kN s/m}""",
+    )
+    from railexu.vehicle import vehicle_from_dict
+
+    one, two = (vehicle_from_dict(*parse_yaml(t)).contact for t in (v1, v2))
+    assert one == two
+    assert (two.creep_model, two.polach_2005, two.damping_model, two.damping) == (
+        "polach_2005", (0.5, 0.2, 0.3, 0.1), "linear", 20e3,
+    )  # fmt: skip
+
+
+def test_topology_errors_point_at_the_key():
+    bogie = (VEHICLES / "eu07_bogie.yaml").read_text()
+    from railexu.vehicle import vehicle_from_dict
+
+    def error(text: str) -> str:
+        with pytest.raises(InputError) as info:
+            data, lines = parse_yaml(text, "b.yaml")
+            vehicle_from_dict(data, "b.yaml", lines, VEHICLES)
+        return str(info.value)
+
+    # wheelsets 0.1 m apart with 0.625 m wheels: the wheels overlap
+    msg = error(bogie.replace("    position: [-1.5]", "    position: [1.4]"))
+    assert re.match(r"b.yaml:\d+: wheelsets.ws1.position: wheelsets ws2 and ws1 are 0.1 m", msg)
+    # the primary springs' vertical stiffness removed: nothing carries the frame
+    msg = error(bogie.replace("z: 1.1 MN/m}", "z: 0}"))
+    assert "bodies.bogie_1: this body is not carried" in msg
+    # an axlebox 10.5 m from the centre line (a slipped decimal point)
+    msg = error(bogie.replace("position: [1.5, 1.05, 0.625]", "position: [1.5, 10.5, 0.625]"))
+    assert "suspension.primary_ws1.position: the point" in msg and "along y" in msg
+    # the shipped vehicles pass, including the body-less wheelset
+    for name in ("eu07", "eu07_bogie", "wheelset", "manchester_coach"):
+        load_vehicle(name)
+
+
+def test_box_half_sizes_recover_a_box():
+    """The extent estimate inverts I = m (a^2 + b^2) / 12 exactly for a homogeneous box."""
+    from railexu.vehicle import Body
+    from railexu.vehicle_checks import box_half_sizes_m
+
+    m, (length, w, h) = 1000.0, (15.0, 3.0, 2.5)
+    inertia = (m * (w**2 + h**2) / 12, m * (length**2 + h**2) / 12, m * (length**2 + w**2) / 12)
+    body = Body("box", m, inertia, (0.0, 0.0, 1.0))
+    assert box_half_sizes_m(body) == pytest.approx((length / 2, w / 2, h / 2), rel=1e-12)

@@ -45,13 +45,13 @@ def _band(o, a):
 
 
 @pytest.mark.parametrize(("name", "coef"), [("german_low", LOW), ("german_high", HIGH)])
-def test_german_psd_matches_physics_md(name, coef):
+def test_german_psd_matches_erri_b176(name, coef):
     spec = get_spectrum(name)
     om = np.array([0.01, 0.05, 0.2, OS, OC, 2.0, 6.0])
     np.testing.assert_allclose(spec.psd("lateral", om), _plain(om, coef["A_a"]), rtol=1e-14)
     np.testing.assert_allclose(spec.psd("vertical", om), _plain(om, coef["A_v"]), rtol=1e-14)
     np.testing.assert_allclose(spec.psd("gauge", om), _band(om, coef["A_g"]), rtol=1e-14)
-    # Cross level: physics.md gives the PSD of the cross-level ANGLE, (A_v/b^2) * shape, in
+    # Cross level: ERRI B176 gives the PSD of the cross-level ANGLE, (A_v/b^2) * shape, in
     # rad^2/(rad/m); railexu's cross level is the height difference 2b * angle (m).
     angle_psd = _band(om, coef["A_v"] / B**2)
     np.testing.assert_allclose(spec.psd("cross_level", om), (2 * B) ** 2 * angle_psd, rtol=1e-14)
@@ -556,3 +556,24 @@ def test_csv_uneven_spacing_is_resampled(tmp_path):
         prof = read_measured_irregularities(path, fade_length_m=0.0)
     np.testing.assert_allclose(prof.distance_m, np.arange(6.0))
     np.testing.assert_allclose(prof.lateral_m, 1e-3 * np.arange(6.0), atol=1e-15)
+
+
+def test_errors_are_input_errors_and_huge_records_are_refused_before_allocation():
+    """IrregularityError is an InputError (short message, exit 2); a record of 1e12 m would
+    need 5e12 samples (step wavelength_min / 16): refused before numpy allocates anything."""
+    from railexu.errors import InputError
+
+    assert issubclass(IrregularityError, InputError)
+    with pytest.raises(IrregularityError, match="is a length or a unit wrong"):
+        synthesize_irregularities("german_low", 1e12, 1, 3.0, 150.0)
+    with pytest.raises(IrregularityError, match="is a length or a unit wrong"):
+        synthesize_irregularities("german_low", 1000.0, 1, 3.0, 150.0, n_components=10**9)
+
+
+def test_package_split_keeps_the_public_names():
+    import railexu.irregularities as pkg
+
+    for name in pkg.__all__:
+        assert hasattr(pkg, name), name
+    assert pkg.synthesize_irregularities.__module__ == "railexu.irregularities.synthesis"
+    assert pkg.IrregularityProfile.__module__ == "railexu.irregularities.profile"

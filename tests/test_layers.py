@@ -26,7 +26,7 @@ LAYERS: dict[str, int] = {
     "railexu.units": 0,
     "railexu.version": 0,
     "railexu.inputs": 1,
-    "railexu.schema": 1,
+    "railexu.schema": 10,  # renders the docs of every input, the study's too: beside the cli
     "railexu.catalog": 1,
     "railexu.profiles": 2,
     "railexu.contact": 3,
@@ -34,6 +34,9 @@ LAYERS: dict[str, int] = {
     "railexu.irregularities": 4,
     "railexu.alignment": 4,
     "railexu.vehicle": 4,
+    "railexu.vehicle_schema": 4,
+    "railexu.vehicle_checks": 4,
+    "railexu.track_schema": 4,
     "railexu.run_settings": 4,
     "railexu.model": 5,
     "railexu.forces": 5,

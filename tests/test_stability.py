@@ -68,7 +68,7 @@ def _textbook_bogie_critical_speed(vehicle, gamma_e: float) -> float:
     b = primary.position_m[1]
     a = ws.position_x_m
     # static wheel load: weight plus the car-body share, over four wheels
-    load = (vehicle.total_mass_kg() * 9.81 - sum(p.force_N[2] for p in vehicle.loads)) / 4
+    load = (vehicle.total_mass_kg * 9.81 - sum(p.force_N[2] for p in vehicle.loads)) / 4
     G, nu = vehicle.contact.shear_modulus_Pa, vehicle.contact.poisson
     h = hertz_contact(0.5 / r0, 0.5 / RAIL_RADIUS, load, G / (1 - nu))
     c11, c22, _ = kalker_coefficients(h.a_m / h.b_m, nu)

@@ -15,16 +15,72 @@ from typing import Any
 
 import yaml
 
-from ..inputs import InputError, KeyPath, Section, apply_overrides, load_yaml
-from .values import RANGE_KEYS, _list_si, _range_values, _yaml_text
+from ..errors import did_you_mean
+from ..inputs import (
+    OPTIONAL,
+    Field,
+    InputError,
+    KeyPath,
+    Override,
+    Schema,
+    Section,
+    apply_overrides,
+    load_yaml,
+)
+from ..run_settings import RUN_SCHEMA
+from ..track_schema import TRACK
+from ..vehicle_schema import VEHICLE
+from .values import RANGE, RANGE_KEYS, _list_si, _range_values, _yaml_text
 
 FORMAT_VERSION = 1
 ANALYSES = ("run", "critical_speed")
 COMBINE = ("product", "zip")
-TOP_KEYS = ("format_version", "name", "description", "analysis", "base", "vary", "collect", "plots")
-BASE_KEYS = ("vehicle", "track", "run", "critical_speed", "set")
-VARY_KEYS = ("combine", "parameters")
 TARGETS = ("vehicle", "track", "run", "critical_speed")
+
+BASE = Schema(
+    "base",
+    (
+        Field("vehicle", "vehicle file (relative to the study file) or shipped name", "text"),
+        Field("track", "track file or shipped name (default: ideal straight track)", "text",
+              default=OPTIONAL),
+        Field("run", "run settings with units (docs/run-settings-format.md); analysis run only",
+              "section", default={}, schema=RUN_SCHEMA),
+        Field("critical_speed", "critical-speed settings (railexu.stability); analysis "
+              "critical_speed only", "section", default=OPTIONAL),
+        Field("set", "dotted.key=value overrides for every case (vehicle. or track. prefix)",
+              "text_list", default=()),
+    ),
+    "What every case shares.",
+)  # fmt: skip
+VARY = Schema(
+    "vary",
+    (
+        Field("combine", "product: every combination; zip: the i-th values together", "text",
+              default="product", choices=COMBINE),
+        Field("parameters", "path -> list of values, or a range {from, to, step}", "named"),
+    ),
+)  # fmt: skip
+STUDY = Schema(
+    "study",
+    (
+        Field("format_version", f"format of the file ({FORMAT_VERSION})", "integer",
+              choices=(FORMAT_VERSION,)),
+        Field("name", "a title, used in plots and messages", "text"),
+        Field("description", "free text", "text", default=""),
+        Field("analysis", "one run, or one critical-speed analysis, per case", "text",
+              default="run", choices=ANALYSES),
+        Field("base", "what every case shares", "section", schema=BASE),
+        Field("vary", "the varied parameters", "section", schema=VARY),
+        Field("collect", "result paths to tabulate (default depends on the analysis)",
+              "text_list", default=OPTIONAL),
+        Field("plots", "also write the plots of every case (slower)", "boolean", default=False),
+    ),
+    "The top level of a study file.",
+)  # fmt: skip
+TOP_KEYS = STUDY.keys()
+BASE_KEYS = BASE.keys()
+VARY_KEYS = VARY.keys()
+DOC_TABLES = (("Top level", STUDY), ("`base`", BASE), ("`vary`", VARY), ("A range", RANGE))
 #: Results collected when a study gives no ``collect`` list.
 DEFAULT_COLLECT = {
     "run": (
@@ -46,13 +102,6 @@ MAX_CASES = 100_000
 
 # SI units of the run and critical-speed keys whose values may be plain numbers
 _KNOWN_UNITS = {
-    "run": {
-        "speed": "m/s",
-        "distance": "m",
-        "initial_lateral": "m",
-        "time_step": "s",
-        "output_interval": "s",
-    },
     "critical_speed": {
         "speed_min": "m/s",
         "speed_max": "m/s",
@@ -212,21 +261,24 @@ class Study:
 
     def vehicle_overrides(self, case: Case) -> list[str]:
         """``dotted.key=value`` overrides of the vehicle file for ``case`` (base ones first)."""
-        base = [item for target, item in _split_set(self.set) if target == "vehicle"]
-        return base + [
-            f"{p.key}={_yaml_text(case.values[p.path])}"
-            for p in self.parameters
-            if p.target == "vehicle"
-        ]
+        return self._overrides(case, "vehicle")
+
+    def _overrides(self, case: Case, target: str) -> list[str]:
+        """Overrides of ``target``'s file for ``case``; each remembers its line in the study
+        file, so that an invalid value is reported there, not in the vehicle or track file."""
+        out = []
+        for i, (t, item) in enumerate(_split_set(self.set)):
+            if t == target:
+                out.append(Override(item, self.source, _line(self.lines, ("base", "set", i))))
+        for p in self.parameters:
+            if p.target == target:
+                text = f"{p.key}={_yaml_text(case.values[p.path])}"
+                out.append(Override(text, f"{self.source} ({case.case_id})", p.line))
+        return out
 
     def track_overrides(self, case: Case) -> list[str]:
         """``dotted.key=value`` overrides of the track file for ``case`` (base ones first)."""
-        base = [item for target, item in _split_set(self.set) if target == "track"]
-        return base + [
-            f"{p.key}={_yaml_text(case.values[p.path])}"
-            for p in self.parameters
-            if p.target == "track"
-        ]
+        return self._overrides(case, "track")
 
     def settings_data(self, case: Case) -> dict:
         """The run settings (analysis ``run``) or critical-speed settings of ``case``: the base
@@ -462,10 +514,8 @@ def _same_key(concrete: str, pattern: str) -> bool:
 
 
 def _did_you_mean(name: str, candidates: Iterable[str]) -> str:
-    import difflib
-
-    close = difflib.get_close_matches(str(name), [str(c) for c in candidates], n=1, cutoff=0.6)
-    return f" Did you mean {close[0]!r}?" if close else ""
+    hint = did_you_mean(name, list(candidates))
+    return hint if hint.startswith(" Did you mean") else ""
 
 
 def _mapping(sec: Section, key: str) -> dict:
@@ -475,12 +525,22 @@ def _mapping(sec: Section, key: str) -> dict:
 
 
 def _study_file(sec: Section, key: str, here: Path) -> Path:
+    """A file named by the study: a path relative to the study file, or a shipped name."""
+    from ..catalog import find_input
+
     name = sec.string(key)
     p = Path(name).expanduser()
     if not p.is_absolute():
         p = here / p
     p = p.resolve()
+    if p.is_dir():
+        sec.fail(f"{p} is a folder; a {key} file was expected", key=key)
     if not p.is_file():
+        if not (Path(name).suffix or "/" in name or "\\" in name):
+            try:
+                return find_input(key, name).resolve()
+            except InputError as exc:
+                sec.fail(exc.detail, key=key)
         sec.fail(f"file not found: {p} (paths are relative to the study file)", key=key)
     return p
 
@@ -578,8 +638,8 @@ def _parameter(name: str, raw: Any, vary: Section, ctx: dict) -> Parameter:
             f"expected a list of values ([10 m/s, 20 m/s]) or a range ({{from: 10 m/s, to: "
             f"40 m/s, step: 5 m/s}}), got {raw!r}"
         )
-    if not quantity and target in _KNOWN_UNITS and all(s is not None for s in si):
-        unit = _KNOWN_UNITS[target].get(key, unit)
+    if not quantity and all(s is not None for s in si):
+        unit = _schema_unit(target, key) or unit
 
     # the path must exist in the vehicle or track file
     if target in ("vehicle", "track"):
@@ -595,6 +655,15 @@ def _parameter(name: str, raw: Any, vary: Section, ctx: dict) -> Parameter:
         if not (isinstance(v, float) and math.isnan(v)) and yaml.safe_load(text) != v:
             fail(f"value {v!r} cannot be passed on as an override")  # pragma: no cover
     return Parameter(name, target, key, tuple(values), tuple(si), quantity, unit, line)
+
+
+def _schema_unit(target: str, key: str) -> str:
+    """The SI unit of a parameter path from the schema of its target ("" if unknown)."""
+    if target in _KNOWN_UNITS:
+        return _KNOWN_UNITS[target].get(key, "")
+    schema = {"run": RUN_SCHEMA, "vehicle": VEHICLE, "track": TRACK}[target]
+    unit = schema.field_at(key.split("."))[1]
+    return "" if unit == "1" else unit
 
 
 def _check_new_key(target: str, key: str, applied: Any, file: Path, lines: dict, fail) -> None:

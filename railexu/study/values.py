@@ -10,10 +10,19 @@ from typing import Any
 
 import yaml
 
-from ..inputs import Section
+from ..inputs import Field, Schema, Section
 from ..units import UnitError, to_si, unit_dimension
 
-RANGE_KEYS = ("from", "to", "step")
+RANGE = Schema(
+    "range",
+    (
+        Field("from", "first value, a number or '<number> <unit>'", "text"),
+        Field("to", "last value (included when the steps reach it), same kind of unit", "text"),
+        Field("step", "increment, > 0, same kind of unit", "text"),
+    ),
+    f"A range of values `{{from, to, step}}`: at most {10_000} values, all finite.",
+)
+RANGE_KEYS = RANGE.keys()
 MAX_VALUES = 10_000
 
 # readable SI units of dimensions (kg, m, s)
@@ -107,11 +116,18 @@ def _range_values(raw: dict, sec: Section) -> tuple[tuple, tuple, bool, str]:
     dim = next(iter(dims.values())) if dims else (0, 0, 0)
     si_unit = _dimension_unit(dim)
     si = {k: to_si(raw[k], si_unit) if dims else parsed[k][0] for k in RANGE_KEYS}
+    for k in RANGE_KEYS:
+        if not math.isfinite(si[k]):
+            sec.fail(f"expected a finite value, got {raw[k]!r}", key=k)
     if not si["step"] > 0.0:
         sec.fail(f"step must be > 0, got {raw['step']!r}", key="step")
     if si["to"] < si["from"]:
         sec.fail(f"to ({raw['to']!r}) must be >= from ({raw['from']!r})", key="to")
-    n = int(math.floor((si["to"] - si["from"]) / si["step"] + 0.5)) + 1
+    count = (si["to"] - si["from"]) / si["step"]
+    if not count < MAX_VALUES:
+        sec.fail(f"{count:.3g} values is more than {MAX_VALUES}: is the step or a unit wrong?",
+                 key="step")  # fmt: skip
+    n = int(math.floor(count + 0.5)) + 1
     if n > MAX_VALUES:
         sec.fail(f"{n} values is more than {MAX_VALUES}: is the step or a unit wrong?", key="step")
     unit = units["from"]
@@ -132,6 +148,9 @@ def _list_si(values: tuple, fail) -> tuple[tuple, bool, str]:
     parsed = [_split_quantity(v) for v in values]
     if any(p is None for p in parsed):
         return tuple(None for _ in values), False, ""
+    for i, p in enumerate(parsed):
+        if not math.isfinite(p[0]):
+            fail(f"expected a finite value, got {values[i]!r}", i)
     units = [p[1] for p in parsed if p[1]]
     if not units:
         return tuple(p[0] for p in parsed), False, ""

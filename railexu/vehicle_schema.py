@@ -1,0 +1,228 @@
+"""The vehicle file's schema: every key declared once (unit, range, default, one line of doc).
+
+:mod:`railexu.vehicle` reads files with it, ``--set`` paths find their units in it, and the key
+tables of ``docs/vehicle-format.md`` are generated from it (``python -m railexu.schema
+--write-docs``). Contact defaults are those of
+:class:`~railexu.contact.evaluation.ContactParameters`, declared there once.
+"""
+
+from __future__ import annotations
+
+from .contact.parameters import CREEP_MODELS
+from .contact.parameters import DAMPING_MODELS, ContactParameters
+from .inputs import OPTIONAL, Field, Schema
+
+#: The format this railexu writes; :data:`READ_VERSIONS` are the ones it reads.
+FORMAT_VERSION = 2
+READ_VERSIONS = (1, 2)
+AXES = ("x", "y", "z")
+_C = ContactParameters()
+
+#: Positions of bodies, elements and loads: a vehicle is shorter than 100 m, narrower than 5 m.
+_POS = dict(minimum=-100.0, maximum=100.0)
+_ESTIMATE = Field("estimate", "basis of values no public source gives", "text", default="")
+_NOTES = Field("notes", "free text", "text", default="")
+
+# -- contact ------------------------------------------------------------------------------------
+POLACH_2005 = Schema(
+    "polach_2005",
+    (
+        Field("k_a", "reduction of Kalker's coefficient in the adhesion area (Polach 2005)",
+              unit="1", default=_C.polach_2005[0], positive=True, maximum=1.0),
+        Field("k_s", "reduction of Kalker's coefficient in the slip area (Polach 2005)",
+              unit="1", default=_C.polach_2005[1], positive=True, maximum=1.0),
+        Field("A", "ratio of the limit friction at infinite slip to the static one",
+              unit="1", default=_C.polach_2005[2], positive=True, maximum=1.0),
+        Field("B", "exponential decay rate of friction with slip velocity",
+              unit="s/m", default=_C.polach_2005[3], minimum=0.0, maximum=100.0),
+    ),
+    "Polach (2005), falling friction with slip velocity; dry rail by default (Table 2).",
+)  # fmt: skip
+_NO_PARAMETERS = Schema("none", ())
+CREEP_LAWS = {
+    name: POLACH_2005 if name == "polach_2005" else _NO_PARAMETERS for name in CREEP_MODELS
+}
+
+NORMAL_DAMPING = {
+    "hunt_crossley": Schema(
+        "hunt_crossley",
+        (
+            Field(
+                "coefficient",
+                "chi of N = K d^1.5 (1 + chi d'): hysteresis damping (Hunt and Crossley 1975)",
+                unit="s/m",
+                default=_C.damping,
+                minimum=0.0,
+                maximum=100.0,
+            ),
+        ),
+    ),  # fmt: skip
+    "linear": Schema(
+        "linear",
+        (
+            Field(
+                "coefficient",
+                "D of N = K d^1.5 + D d' (jumps to D d' at first touch); default ~5 % of critical "
+                "for 1 t on a 1e9 N/m contact",
+                unit="N s/m",
+                default=1.0e5,
+                minimum=0.0,
+                maximum=1.0e8,
+            ),
+        ),
+    ),  # fmt: skip
+}
+assert set(NORMAL_DAMPING) == set(DAMPING_MODELS)
+
+CONTACT = Schema(
+    "contact",
+    (
+        Field("friction", "friction coefficient mu (mu0 of Polach 2005)", unit="1",
+              default=_C.friction, minimum=0.0, maximum=1.0),
+        Field("creep", "creep law by name, its parameters nested: {model: polach_2005, k_a: ...}",
+              "model", default={"model": _C.creep_model}, models=CREEP_LAWS),
+        Field("shear_modulus", "combined shear modulus G of wheel and rail steel", unit="Pa",
+              default=_C.shear_modulus_Pa, minimum=1e9, maximum=1e12),
+        Field("poisson", "Poisson's ratio of wheel and rail steel", unit="1",
+              default=_C.poisson, minimum=0.0, maximum=0.499),
+        Field("normal_damping", "damping law of the normal force by name, with its coefficient",
+              "model", default={"model": _C.damping_model}, models=NORMAL_DAMPING),
+        Field("scan_step", "step of the coarse scan for contact points along the wheel",
+              unit="m", default=_C.scan_step_m, minimum=1e-5, maximum=5e-3),
+    ),
+)  # fmt: skip
+
+# -- bodies, wheelsets, elements, loads -----------------------------------------------------------
+BODY = Schema(
+    "body",
+    (
+        Field("mass", "mass", unit="kg", positive=True, maximum=1e6),
+        Field("inertia", "principal moments of inertia about the centre of gravity", "vector",
+              "kg m^2", components=("roll", "pitch", "yaw"), positive=True, maximum=1e9),
+        Field("position", "centre of gravity, vehicle axes", "vector", "m", **_POS),
+        _ESTIMATE,
+        _NOTES,
+    ),
+    "A rigid body other than a wheelset (car body, bogie frame), by name under `bodies:`.",
+)  # fmt: skip
+
+WHEELSET = Schema(
+    "wheelset",
+    (
+        Field("position", "x of the axle; its centre is at the nominal radius above the rails",
+              "vector", "m", components=("x",), **_POS),
+        Field("mass", "mass of the wheelset (and what rotates with it)", unit="kg",
+              positive=True, maximum=1e5),
+        Field("inertia", "principal moments of inertia about the centre", "vector", "kg m^2",
+              components=("roll", "yaw", "spin"), positive=True, maximum=1e6),
+        Field("wheel_profile", "built-in name or a profile file (relative to this file); "
+              "{left: ..., right: ...} for different wheels", "sided"),
+        Field("nominal_radius", "rolling radius at the tape circle; {left:, right:} allowed",
+              "sided", "m", minimum=0.2, maximum=1.0),
+        Field("flange_back_distance", "distance between the backs of the two flanges",
+              unit="m", default=1.360, minimum=0.9, maximum=1.7),
+        Field("axle_load", "declared static axle load, checked against the statics (2 %)",
+              unit="N", default=OPTIONAL, positive=True, maximum=1e7),
+        _ESTIMATE,
+        _NOTES,
+    ),
+    "A wheelset (axle along y), by name under `wheelsets:`; at least one.",
+)  # fmt: skip
+
+_BODIES = Field("bodies", "the two bodies it connects, [upper, lower]", "text_list")
+_POSITION = Field("position", "attachment point, vehicle axes", "vector", "m", **_POS)
+_MIRROR = Field("mirror_y", "also at -y: makes NAME_left and NAME_right", "boolean",
+                default=False)  # fmt: skip
+ELEMENTS = {
+    "spring_damper": Schema(
+        "spring_damper",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("stiffness", "stiffness along the track axes (missing components 0)",
+                  "vector", "N/m", default=(0.0, 0.0, 0.0), minimum=0.0, maximum=1e10),
+            Field("damping", "viscous damping along the track axes (missing components 0)",
+                  "vector", "N s/m", default=(0.0, 0.0, 0.0), minimum=0.0, maximum=1e9),
+            _ESTIMATE, _NOTES,
+        ),
+        "Linear spring and damper at one point (bushing, coil spring, damper).",
+    ),
+    "torsion_spring": Schema(
+        "torsion_spring",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("axis", "axis of rotation", "text", choices=AXES),
+            Field("stiffness", "rotational stiffness", unit="N m/rad", default=0.0,
+                  minimum=0.0, maximum=1e10),
+            Field("damping", "rotational damping", unit="N m s/rad", default=0.0,
+                  minimum=0.0, maximum=1e9),
+            _ESTIMATE, _NOTES,
+        ),
+        "Rotational spring and damper about one axis (secondary yaw); not on wheelsets.",
+    ),
+    "bump_stop": Schema(
+        "bump_stop",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("direction", "direction of the stop", "text", choices=AXES),
+            Field("clearance", "free play on each side", unit="m", minimum=0.0, maximum=1.0),
+            Field("stiffness", "stiffness beyond the clearance", unit="N/m", positive=True,
+                  maximum=1e10),
+            Field("damping", "damping beyond the clearance", unit="N s/m", default=0.0,
+                  minimum=0.0, maximum=1e9),
+            _ESTIMATE, _NOTES,
+        ),
+        "No force within +-clearance, then a linear spring (and damper).",
+    ),
+}  # fmt: skip
+ELEMENT_TYPE = Field("type", "kind of element", "text", choices=tuple(ELEMENTS))
+
+LOAD = Schema(
+    "load",
+    (
+        Field("body", "the body it acts on", "text"),
+        _POSITION,
+        Field("force", "force, vehicle axes", "vector", "N", minimum=-1e8, maximum=1e8),
+        _MIRROR,
+        Field("static", "part of the rest state; false: applied suddenly at t = 0", "boolean",
+              default=True),
+        _ESTIMATE,
+        _NOTES,
+    ),
+    "A constant force on a body at a point, by name under `loads:`.",
+)  # fmt: skip
+
+VEHICLE = Schema(
+    "vehicle",
+    (
+        Field("format_version", f"format of the file ({FORMAT_VERSION}; 1 is still read)",
+              "integer", choices=READ_VERSIONS),
+        Field("name", "short name", "text"),
+        Field("description", "one paragraph", "text", default=""),
+        Field("sources", "where the data come from", "text_list", default=()),
+        Field("speed_body", "body held at the forward speed (default: the first body, or the "
+              "first wheelset)", "text", default=OPTIONAL),
+        Field("gravity", "acceleration of gravity", unit="m/s^2", default=9.81, minimum=9.7,
+              maximum=9.9),
+        Field("contact", "wheel-rail contact parameters", "section", default={}, schema=CONTACT),
+        Field("bodies", "rigid bodies other than wheelsets, by name", "named", default={},
+              schema=BODY),
+        Field("wheelsets", "wheelsets, by name", "named", schema=WHEELSET),
+        Field("suspension", "suspension elements, by name; `type:` chooses the kind", "named",
+              default={}, models=ELEMENTS, selector="type"),
+        Field("loads", "constant external forces, by name", "named", default={}, schema=LOAD),
+    ),
+    "The top level of a vehicle file.",
+)  # fmt: skip
+
+#: ``(heading, schema)`` of every table of ``docs/vehicle-format.md``.
+DOC_TABLES = (
+    ("Top level", VEHICLE),
+    ("`contact`", CONTACT),
+    ("`contact.creep` model `polach_2005` (other creep laws take no parameters)", POLACH_2005),
+    ("`contact.normal_damping` model `hunt_crossley` (default)", NORMAL_DAMPING["hunt_crossley"]),
+    ("`contact.normal_damping` model `linear`", NORMAL_DAMPING["linear"]),
+    ("`bodies.NAME`", BODY),
+    ("`wheelsets.NAME`", WHEELSET),
+    *((f"`suspension.NAME` with `type: {k}`", s) for k, s in ELEMENTS.items()),
+    ("`loads.NAME`", LOAD),
+)
