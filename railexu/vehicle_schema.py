@@ -8,8 +8,7 @@ tables of ``docs/vehicle-format.md`` are generated from it (``python -m railexu.
 
 from __future__ import annotations
 
-from .contact.parameters import CREEP_MODELS
-from .contact.parameters import DAMPING_MODELS, ContactParameters
+from .contact.parameters import CREEP_MODELS, DAMPING_MODELS, ContactParameters
 from .inputs import OPTIONAL, Field, Schema
 
 #: The format this railexu writes; :data:`READ_VERSIONS` are the ones it reads.

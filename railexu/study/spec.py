@@ -303,7 +303,7 @@ class Study:
 
     def to_dict(self) -> dict:
         """The study as stored in ``study.json`` (without the cases)."""
-        from .. import __version__
+        from ..version import __version__
 
         return {
             "format_version": FORMAT_VERSION,
