@@ -118,8 +118,6 @@ def _check_points(vehicle: Vehicle, top: Section) -> None:
 def _check_connections(vehicle: Vehicle, top: Section) -> None:
     """Every wheelset is joined to some body; every body reaches a wheelset through springs
     with vertical stiffness (else nothing carries its weight)."""
-    from .vehicle import SpringDamper
-
     wheelsets = {w.name for w in vehicle.wheelsets}
     joined = {b for el in vehicle.suspension for b in el.bodies}
     for ws in vehicle.wheelsets:
@@ -132,7 +130,10 @@ def _check_connections(vehicle: Vehicle, top: Section) -> None:
             )
     vertical: dict[str, set[str]] = {}
     for el in vehicle.suspension:
-        if isinstance(el, SpringDamper) and el.stiffness_N_per_m[2] > 0.0:
+        # spring-dampers carry loads along three axes (a tuple of stiffnesses); torsion springs
+        # and bump stops carry no weight at rest
+        stiffness = getattr(el, "stiffness_N_per_m", None)
+        if isinstance(stiffness, tuple) and stiffness[2] > 0.0:
             a, b = el.bodies
             vertical.setdefault(a, set()).add(b)
             vertical.setdefault(b, set()).add(a)

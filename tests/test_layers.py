@@ -7,7 +7,8 @@ The layers, lowest first (the package docstring, ``railexu/__init__.py``, explai
     file writers) -> study -> cli
 
 A module may import its own layer and the layers below. Imports inside functions count too (a
-lazy upward import is still an upward dependency). The check reads the source with :mod:`ast`,
+lazy upward import is still an upward dependency); imports under ``if TYPE_CHECKING:`` do not
+(they exist for type checkers only). The check reads the source with :mod:`ast`,
 so it needs no import of the package and runs in a fraction of a second.
 """
 
@@ -75,7 +76,18 @@ def imports_of(path: Path) -> set[str]:
     module = module_name(path)
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
     found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    # imports under `if TYPE_CHECKING:` are for type checkers only: no run-time dependency
+    type_only = {
+        id(n)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+        for stmt in node.body
+        for n in ast.walk(stmt)
+    }
+    for node in ast.walk(tree):
+        if id(node) in type_only:
+            continue
         if isinstance(node, ast.Import):
             found.update(a.name for a in node.names if a.name.startswith("railexu"))
         elif isinstance(node, ast.ImportFrom):
