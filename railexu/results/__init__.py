@@ -1,0 +1,89 @@
+"""Results of a running simulation: the time series, signal helpers and the typed summary.
+
+- :mod:`.timeseries`: :class:`TimeSeries` (the recorded columns, CSV, pandas);
+- :mod:`.signals`: sliding means and rms, windowed means, zero crossings, the one definition of
+  an oscillation's amplitude;
+- :mod:`.summary`: :func:`summarize` (a :class:`RunSummary` with every criterion of
+  :mod:`railexu.assessment` over the evaluation window), :func:`write_summary`,
+  :func:`read_summary`.
+
+The names below stay importable from ``railexu.results`` as before the split.
+"""
+
+from ..assessment.en14363 import (
+    ALPHA,
+    CATEGORIES,
+    FLANGE_SIGN,
+    SAFETY_WINDOW_M,
+    SIDES,
+    STABILITY_WINDOW_M,
+    Y_OVER_Q_LIMIT,
+    alpha_for,
+    nadal_limit,
+    track_shifting_limit_N,
+)
+from ..assessment.hunting import FINAL_FRACTION, HUNTING_DECAY_RATIO
+from .signals import (
+    CROSSING_HYSTERESIS,
+    amplitude,
+    percentile,
+    sliding_mean,
+    sliding_rms,
+    window_means,
+    window_rms,
+    zero_crossing_wavelength,
+    zero_crossings,
+)
+from .summary import (
+    FORMAT_VERSION,
+    MIN_LOAD_FRACTION,
+    EvaluationWindow,
+    RunSummary,
+    evaluation_window,
+    read_summary,
+    summarize,
+    write_summary,
+    y_over_q,
+)
+from .timeseries import ResultsError, TimeSeries
+
+#: EN 14363 track-shifting factor alpha (kept for older code: see ``ALPHA`` by category).
+ALPHA_LOCOMOTIVE = ALPHA["locomotive"]
+ALPHA_FREIGHT_WAGON = ALPHA["wagon"]
+
+__all__ = [
+    "ALPHA",
+    "ALPHA_FREIGHT_WAGON",
+    "ALPHA_LOCOMOTIVE",
+    "CATEGORIES",
+    "CROSSING_HYSTERESIS",
+    "FINAL_FRACTION",
+    "FLANGE_SIGN",
+    "FORMAT_VERSION",
+    "HUNTING_DECAY_RATIO",
+    "MIN_LOAD_FRACTION",
+    "SAFETY_WINDOW_M",
+    "SIDES",
+    "STABILITY_WINDOW_M",
+    "Y_OVER_Q_LIMIT",
+    "EvaluationWindow",
+    "ResultsError",
+    "RunSummary",
+    "TimeSeries",
+    "alpha_for",
+    "amplitude",
+    "evaluation_window",
+    "nadal_limit",
+    "percentile",
+    "read_summary",
+    "sliding_mean",
+    "sliding_rms",
+    "summarize",
+    "track_shifting_limit_N",
+    "window_means",
+    "window_rms",
+    "write_summary",
+    "y_over_q",
+    "zero_crossing_wavelength",
+    "zero_crossings",
+]
