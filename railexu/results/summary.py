@@ -41,7 +41,7 @@ from ..assessment.en14363 import (
 from ..assessment.filters import dominant_frequency, lowpass
 from ..assessment.hunting import FINAL_FRACTION, HuntingResult, detect_hunting
 from ..assessment.safety import flange_climb_criterion, wheel_unloading_criterion
-from .signals import amplitude, window_means
+from .signals import amplitude, window_means, zero_crossing_wavelength
 from .timeseries import ResultsError, TimeSeries
 
 FloatArray = NDArray[np.float64]
@@ -315,16 +315,23 @@ def _near_unloaded(q: FloatArray, min_load_N: float, fs_Hz: float) -> NDArray[np
 def _oscillation_frequency(
     lead: FloatArray | None, sum_y: Mapping[str, FloatArray], inside, fs_Hz: float
 ) -> float | None:
-    """f0 of EN 14363's stability band: the dominant frequency of the leading wheelset's lateral
-    motion in the window; if it does not move, that of the axle with the largest sum Y."""
+    """f0 of EN 14363's stability band: the frequency of the leading wheelset's lateral motion
+    in the window (if it does not move: of the axle with the largest sum Y), from the mean
+    spacing of its zero crossings, or the periodogram's peak if fewer than two periods show."""
     if np.count_nonzero(inside) <= 16:
         return None
     if lead is not None and amplitude(lead[inside]) > 0.0:
-        return dominant_frequency(lead[inside], fs_Hz, F0_SEARCH_BAND_HZ)
-    if sum_y:
-        largest = max(sum_y.values(), key=lambda v: float(np.std(v[inside])))
-        return dominant_frequency(largest[inside], fs_Hz, F0_SEARCH_BAND_HZ)
-    return None
+        values = lead[inside]
+    elif sum_y:
+        values = max(sum_y.values(), key=lambda v: float(np.std(v[inside])))[inside]
+    else:
+        return None
+    # the mean spacing of zero crossings (on the time axis) is sharper than a periodogram bin
+    t = np.arange(values.size) / fs_Hz
+    period = zero_crossing_wavelength(t, values, min_periods=2.0)
+    if period is not None and F0_SEARCH_BAND_HZ[0] <= 1.0 / period <= F0_SEARCH_BAND_HZ[1]:
+        return 1.0 / period
+    return dominant_frequency(values, fs_Hz, F0_SEARCH_BAND_HZ)
 
 
 def _sample_rate(t: FloatArray) -> float:
