@@ -435,12 +435,34 @@ def test_run_figures_and_save(tmp_path):
     )
     s = summary_of(ts)
     figs = run_figures(ts, s, title="EU07 at 30 m/s")
-    assert set(figs) == {"lateral_displacement", "lateral_force", "y_over_q"}
+    assert set(figs) == {"lateral_displacement", "lateral_force", "y_over_q", "wheel_load", "sum_y"}
     for fig in figs.values():
         for ax in fig.axes:
             assert ax.get_xlabel() and ax.get_ylabel() and "[" in ax.get_ylabel()
+    # displacement: one line per wheelset and body, the hunting verdict in the title
+    ax = figs["lateral_displacement"].axes[0]
+    assert len(ax.get_lines()) == 4
+    assert "hunting" in ax.get_title()
+    # lateral force: one subplot per wheelset; a flange-contact marker at the start of each of
+    # the 6 flange spans of ws1's left wheel (one per period of 20 m over 120 m)
     assert len(figs["lateral_force"].axes) == 2
-    assert len(run_figures(ts)) == 3  # without a summary
+    markers = [ln for ln in figs["lateral_force"].axes[0].get_lines() if ln.get_marker() == "v"]
+    assert len(markers) == 1 and len(markers[0].get_xdata()) == 6
+    # Y/Q: the EN 14363 limit and Nadal's value are labelled as such; the data reach
+    # 30 kN / 98 kN = 0.31: the limit 0.8 (within 3 times the data) is drawn, Nadal's 1.20 is
+    # written above the axis so that the data stay readable
+    ax = figs["y_over_q"].axes[0]
+    assert "EN 14363 limit (Y/Q)_lim = 0.80" in [ln.get_label() for ln in ax.get_lines()]
+    assert "Nadal flange-climb value 1.20 (information)" in ax.texts[0].get_text()
+    assert "EN 14363" in figs["y_over_q"].texts[0].get_text()  # suptitle names the limit's source
+    # wheel load: Q and unloading side by side per wheelset, the unloading limit drawn
+    assert len(figs["wheel_load"].axes) == 4
+    assert figs["wheel_load"].axes[1].get_ylabel() == "unloading dQ/Q0 [-]"
+    # sum Y: raw and 2 m mean; the limit (75 kN) is far above the data (30 kN): written as text
+    ax = figs["sum_y"].axes[0]
+    assert ax.get_ylabel() == "sum Y [kN]"
+    assert len(ax.get_lines()) == 2
+    assert "above the axis" in ax.texts[0].get_text() and "75.4 kN" in ax.texts[0].get_text()
+    assert len(run_figures(ts)) == 5  # without a summary
     paths = save_figure(figs["lateral_force"], tmp_path / "figs" / "lateral_force")
     assert [p.suffix for p in paths] == [".png", ".svg"]
-    assert all(p.stat().st_size > 0 for p in paths)

@@ -170,11 +170,9 @@ def point_comfort(
 
     return PointComfort(
         point=point,
-        n_mv=None if acc_y is None and acc_z is None else mean_comfort(
-            acc_y, acc_z, fs_Hz, keep=keep
-        ),
+        n_mv=None
+        if acc_y is None and acc_z is None
+        else mean_comfort(acc_y, acc_z, fs_Hz, keep=keep),
         sperling_lateral=None if acc_y is None else sperling_index(cut(acc_y), fs_Hz, "lateral"),
-        sperling_vertical=None if acc_z is None else sperling_index(
-            cut(acc_z), fs_Hz, "vertical"
-        ),
+        sperling_vertical=None if acc_z is None else sperling_index(cut(acc_z), fs_Hz, "vertical"),
     )

@@ -165,8 +165,13 @@ def y_over_q_criterion(
 
 
 def sum_y_criterion(
-    x: FloatArray, sum_y: Mapping[str, FloatArray], start: float, end: float, limit_N: float,
-    alpha: float, category: str,
+    x: FloatArray,
+    sum_y: Mapping[str, FloatArray],
+    start: float,
+    end: float,
+    limit_N: float,
+    alpha: float,
+    category: str,
 ) -> Criterion:
     """Track-shifting force (EN 14363): 2 m sliding means of sum Y = Y_left + Y_right of each
     axle; the larger magnitude of the 0.15 % and 99.85 % percentiles, largest over the axles,
@@ -198,12 +203,20 @@ def stability_band_Hz(f0_Hz: float | None) -> tuple[float, float] | None:
     :data:`STABILITY_MIN_EDGE_HZ` (railexu)."""
     if f0_Hz is None or not f0_Hz > 0.0:
         return None
-    return (max(f0_Hz - STABILITY_HALF_BAND_HZ, STABILITY_MIN_EDGE_HZ), f0_Hz + STABILITY_HALF_BAND_HZ)
+    return (
+        max(f0_Hz - STABILITY_HALF_BAND_HZ, STABILITY_MIN_EDGE_HZ),
+        f0_Hz + STABILITY_HALF_BAND_HZ,
+    )
 
 
 def running_stability_criterion(
-    x: FloatArray, fs_Hz: float, sum_y: Mapping[str, FloatArray], f0_Hz: float | None,
-    start: float, end: float, track_shifting_limit: float,
+    x: FloatArray,
+    fs_Hz: float,
+    sum_y: Mapping[str, FloatArray],
+    f0_Hz: float | None,
+    start: float,
+    end: float,
+    track_shifting_limit: float,
 ) -> Criterion:
     """Running stability (EN 14363, normal measuring method): sum Y of each axle band-pass
     filtered at ``f0 +- 2 Hz``, rms over 100 m windows in 10 m steps; the largest, against half

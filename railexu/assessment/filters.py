@@ -61,7 +61,9 @@ def _weighting(name: str) -> Weighting:
     try:
         return WEIGHTINGS[name]
     except KeyError:
-        raise ValueError(f"unknown weighting {name!r}; expected one of {sorted(WEIGHTINGS)}") from None
+        raise ValueError(
+            f"unknown weighting {name!r}; expected one of {sorted(WEIGHTINGS)}"
+        ) from None
 
 
 def weighting_zpk(name: str, band_limit_low_pass: bool = True) -> tuple[list, list, float]:
@@ -141,7 +143,9 @@ def bandpass(values: ArrayLike, fs_Hz: float, low_Hz: float, high_Hz: float) -> 
     return signal.sosfiltfilt(sos, v, padlen=padlen)
 
 
-def dominant_frequency(values: ArrayLike, fs_Hz: float, band_Hz: tuple[float, float]) -> float | None:
+def dominant_frequency(
+    values: ArrayLike, fs_Hz: float, band_Hz: tuple[float, float]
+) -> float | None:
     """Frequency (Hz) of the largest peak of the periodogram (Hann window, mean removed) of
     ``values`` within ``band_Hz``; None if the band holds no bin or the signal is constant."""
     v = np.asarray(values, dtype=float)

@@ -198,7 +198,11 @@ def zero_crossing_wavelength(
 
 
 def window_means(
-    x_m: ArrayLike, values: ArrayLike, window_m: float, step_m: float, start_m: float | None = None,
+    x_m: ArrayLike,
+    values: ArrayLike,
+    window_m: float,
+    step_m: float,
+    start_m: float | None = None,
     end_m: float | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """Means over windows of ``window_m`` placed every ``step_m`` metres (EN 14363's sliding mean
@@ -241,7 +245,11 @@ def window_means(
 
 
 def window_rms(
-    x_m: ArrayLike, values: ArrayLike, window_m: float, step_m: float, start_m: float | None = None,
+    x_m: ArrayLike,
+    values: ArrayLike,
+    window_m: float,
+    step_m: float,
+    start_m: float | None = None,
     end_m: float | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """Root mean square over windows placed like :func:`window_means` (EN 14363 running

@@ -599,4 +599,3 @@ def read_summary(path: str | Path) -> dict:
     if not isinstance(data, dict):
         raise ResultsError(f"{path}: expected a JSON object, got {type(data).__name__}")
     return data
-
