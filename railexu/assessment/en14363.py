@@ -29,9 +29,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError, did_you_mean
-from ..results.signals import percentile, window_means, window_rms
 from .criterion import Criterion
 from .filters import bandpass
+from .signals import percentile, window_means, window_rms
 
 FloatArray = NDArray[np.float64]
 

@@ -34,8 +34,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import signal
 
-from ..results.signals import amplitude, zero_crossing_wavelength, zero_crossings
 from .criterion import Criterion, finite_or_none
+from .signals import amplitude, zero_crossing_wavelength, zero_crossings
 
 FloatArray = NDArray[np.float64]
 

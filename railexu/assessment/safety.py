@@ -23,9 +23,9 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from ..results.signals import percentile, window_means
 from .criterion import Criterion
 from .en14363 import LOWPASS_HZ, PERCENTILE_MAX, SAFETY_STEP_M, SAFETY_WINDOW_M
+from .signals import percentile, window_means
 
 FloatArray = NDArray[np.float64]
 

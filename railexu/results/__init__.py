@@ -1,13 +1,14 @@
 """Results of a running simulation: the time series, signal helpers and the typed summary.
 
 - :mod:`.timeseries`: :class:`TimeSeries` (the recorded columns, CSV, pandas);
-- :mod:`.signals`: sliding means and rms, windowed means, zero crossings, the one definition of
-  an oscillation's amplitude;
 - :mod:`.summary`: :func:`summarize` (a :class:`RunSummary` with every criterion of
   :mod:`railexu.assessment` over the evaluation window), :func:`write_summary`,
   :func:`read_summary`.
 
-The names below stay importable from ``railexu.results`` as before the split.
+The signal helpers (sliding means and rms, windowed means, zero crossings, the one definition
+of an oscillation's amplitude) live in :mod:`railexu.assessment.signals`, so that the assessment
+does not import the results package (results -> assessment, never back). The names below stay
+importable from ``railexu.results`` as before the split.
 """
 
 from ..assessment.en14363 import (
@@ -23,7 +24,7 @@ from ..assessment.en14363 import (
     track_shifting_limit_N,
 )
 from ..assessment.hunting import FINAL_FRACTION, HUNTING_DECAY_RATIO
-from .signals import (
+from ..assessment.signals import (
     CROSSING_HYSTERESIS,
     amplitude,
     percentile,

@@ -41,7 +41,7 @@ from ..assessment.en14363 import (
 from ..assessment.filters import dominant_frequency, lowpass
 from ..assessment.hunting import FINAL_FRACTION, HuntingResult, detect_hunting
 from ..assessment.safety import flange_climb_criterion, wheel_unloading_criterion
-from .signals import amplitude, window_means, zero_crossing_wavelength
+from ..assessment.signals import amplitude, window_means, zero_crossing_wavelength
 from .timeseries import ResultsError, TimeSeries
 
 FloatArray = NDArray[np.float64]
