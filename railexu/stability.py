@@ -32,6 +32,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
+from .assessment.signals import amplitude
 from .contact.conicity import equivalent_conicity
 from .contact.evaluation import ContactParameters, WheelsetContactModel
 from .contact.placement import symmetric_wheelset
@@ -468,10 +469,8 @@ def _lateral_amplitude(ts, fraction: float = 0.1) -> tuple[float, float, bool]:
     a_last = a_before = 0.0
     for i in ts.wheelset_indices():
         y = ts[f"ws{i}_lateral_m"]
-        if np.any(last):
-            a_last = max(a_last, 0.5 * float(np.ptp(y[last])))
-        if np.any(before):
-            a_before = max(a_before, 0.5 * float(np.ptp(y[before])))
+        a_last = max(a_last, amplitude(y[last]))
+        a_before = max(a_before, amplitude(y[before]))
     return a_last, a_before, a_last > 1.05 * a_before
 
 
@@ -622,17 +621,18 @@ def ramp_critical_speed(
 
 
 def _half_period_amplitudes(y: np.ndarray, speed: np.ndarray):
-    """Largest |y - mean| within each half period (between sign changes) and the speed at its
-    end."""
+    """The amplitude (:func:`~railexu.assessment.signals.amplitude`, half peak to peak) of each
+    full period that ends at a sign change of ``y - mean``, and the speed at its end: one value
+    per half period, each over the last full period."""
     centred = y - np.mean(y)
     sign = np.signbit(centred)
     cuts = np.nonzero(sign[1:] != sign[:-1])[0] + 1
     edges = np.concatenate([[0], cuts, [len(y)]])
     amps, speeds = [], []
-    for i0, i1 in zip(edges[:-1], edges[1:], strict=True):
-        if i1 - i0 < 2:
+    for i0, i1 in zip(edges[:-2], edges[2:], strict=True):
+        if i1 - i0 < 3:
             continue
-        amps.append(float(np.max(np.abs(centred[i0:i1]))))
+        amps.append(amplitude(y[i0:i1]))
         speeds.append(float(speed[i1 - 1]))
     return np.asarray(amps), np.asarray(speeds)
 
@@ -665,13 +665,74 @@ def critical_speed(
     if "linear" in settings.methods:
         out["linear"] = linear_stability(vehicle, track, settings, progress)
         out["linear_m_per_s"] = out["linear"]["critical_speed_m_per_s"]
+        out["linear_mode"] = out["linear"]["critical_mode"]
     if "bisection" in settings.methods:
         out["bisection"] = bisection_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_bisection_m_per_s"] = out["bisection"]["critical_speed_m_per_s"]
     if "ramp" in settings.methods:
         out["ramp"] = ramp_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_ramp_m_per_s"] = out["ramp"]["critical_speed_m_per_s"]
+    out["comparison"] = compare_linear_nonlinear(out, settings)
     return out
+
+
+#: Linear and nonlinear critical speeds that differ by more than this fraction get an
+#: explanation in words.
+COMPARISON_TOLERANCE = 0.25
+
+
+def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> str | None:
+    """Why the linear and a nonlinear critical speed differ by more than 25 %, in words (None
+    when they agree, or when one of them is missing).
+
+    The reasons, in the order they are checked: the linear value belongs to a car-body mode
+    (weakly damped, a motion of the car body on its secondary suspension: the wheelsets'
+    amplitude, which the nonlinear runs judge, stays below the threshold within the run); the
+    nonlinear value is the lower one (a subcritical bifurcation: the wheel-rail contact's
+    nonlinearity lets a large disturbance settle into a limit cycle below the linear value); the
+    nonlinear value is the higher one (the linearisation's equivalent conicity, taken at one
+    amplitude, is larger than what the run's small motion sees, or the motion grows too slowly
+    to reach the threshold within the distance run)."""
+    linear = result.get("linear_m_per_s")
+    nonlinear = {k: result.get(f"nonlinear_{k}_m_per_s") for k in ("bisection", "ramp")}
+    nonlinear = {k: v for k, v in nonlinear.items() if v is not None}
+    if linear is None or not nonlinear:
+        return None
+    method, value = min(nonlinear.items(), key=lambda kv: abs(kv[1] - linear))
+    if abs(value - linear) <= COMPARISON_TOLERANCE * value:
+        return None
+    lin = result.get("linear") or {}
+    mode = lin.get("critical_mode") or "hunting"
+    gap = abs(value - linear) / value
+    head = (
+        f"The linear critical speed ({linear:.1f} m/s, {mode} mode) and the nonlinear one "
+        f"({method}, {value:.1f} m/s) differ by {gap:.0%}: "
+    )
+    if mode not in HUNTING_MODES:
+        hunting = lin.get("hunting_critical_speed_m_per_s")
+        tail = " No hunting mode crosses zero in the range."
+        if hunting is not None:
+            tail = f" The hunting modes' damping crosses zero at {hunting:.1f} m/s."
+        return head + (
+            f"the linear value belongs to the weakly damped {mode} mode, a motion of the car body "
+            "on its secondary suspension. It grows slowly and moves the wheelsets little, so in "
+            f"the nonlinear runs the wheelsets' amplitude stays below the "
+            f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m." + tail
+        )
+    if value < linear:
+        return head + (
+            "the nonlinear value is lower: a subcritical bifurcation. The wheel-rail contact is "
+            "nonlinear (the conicity grows with the amplitude towards the flange), so a "
+            f"disturbance of {settings.initial_lateral_m * 1e3:g} mm settles into a limit cycle "
+            "below the speed at which small motions become unstable; the ramp method shows "
+            "where that limit cycle vanishes."
+        )
+    return head + (
+        "the nonlinear value is higher: the linear analysis uses the equivalent conicity at "
+        f"{settings.conicity_amplitude_m * 1e3:g} mm, larger than the conicity the run's small "
+        "motion sees near the centre, or the motion grows too slowly to reach the "
+        f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m."
+    )
 
 
 def _jsonable(obj):
