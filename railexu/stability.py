@@ -1,7 +1,7 @@
 """Critical speed: linear eigenvalues, nonlinear bisection, and the ramp method.
 
 Above its critical speed a railway vehicle hunts: a self-excited lateral oscillation of its
-wheelsets and bogies. Three ways to find it (physics.md section 7):
+wheelsets and bogies. Three ways to find it (``docs/assessment.md`` and ``docs/validation.md``):
 
 - **linear** (:func:`linear_stability`): linearise the vehicle about centred running at a speed
   with Exudyn (``ComputeLinearizedSystem``: stiffness, damping and mass matrices, the creep

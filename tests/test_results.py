@@ -30,7 +30,7 @@ from railexu.results import (
 
 G = 9.81
 V = 30.0  # m/s
-KLINGEL_L = 2 * math.pi * math.sqrt(0.75 * 0.625 / 0.05)  # 19.24 m, physics.md section 7
+KLINGEL_L = 2 * math.pi * math.sqrt(0.75 * 0.625 / 0.05)  # 19.24 m, Klingel (1883)
 AXLE_LOAD_N = 80e3 * G / 4  # EU07: 80 t on 4 axles
 WHEEL_LOAD_N = AXLE_LOAD_N / 2
 SUMMARY_KEYS = {

@@ -4,7 +4,7 @@ Each function returns a :class:`~railexu.assessment.criterion.Criterion` with it
 place, window and rule; ``docs/assessment.md`` gives the clause of each quantity and says which
 values are the standard's and which are railexu's choices.
 
-Processing (EN 14363:2016, section 7.5 and annex for the normal measuring method):
+Processing (EN 14363:2016, on-track tests: processing and evaluation of the quantities):
 
 - forces are low-pass filtered at :data:`LOWPASS_HZ` before any statistic;
 - Y/Q and sum Y are sliding means over :data:`SAFETY_WINDOW_M` (2 m) placed every
