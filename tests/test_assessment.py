@@ -332,3 +332,14 @@ def test_eu07_on_irregular_track_at_20_m_per_s_is_not_hunting():
     criteria = result.summary["assessment"]["criteria"]
     assert criteria["running_stability"]["pass"] is True
     assert result.summary["assessment"]["safety_exceeded"] is False
+
+
+def test_a_short_lift_off_leaves_out_y_over_q_around_it():
+    """A wheel lifted for 2 samples of a 9-sample record (shorter than the filter's reach):
+    its Y/Q is left out around the lift-off, the summary does not fail."""
+    x = np.linspace(0.0, 2.0, 9)
+    q = np.full(x.shape, WHEEL_LOAD_N)
+    q[4:6] = 0.0
+    s = summary_of(series(x, 0.0, 0.1 * WHEEL_LOAD_N, q), evaluate_from_m=0.0)
+    assert s.wheel_unloading.details["min_Q_N"] == 0.0
+    assert s.y_over_q.value is None or s.y_over_q.value < 0.2

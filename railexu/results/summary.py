@@ -308,8 +308,8 @@ def _near_unloaded(q: FloatArray, min_load_N: float, fs_Hz: float) -> NDArray[np
     if not np.any(unloaded) or not fs_Hz > 0:
         return unloaded
     half = int(math.ceil(fs_Hz / LOWPASS_HZ))
-    kernel = np.ones(2 * half + 1)
-    return np.convolve(unloaded.astype(float), kernel, mode="same") > 0.0
+    near = np.convolve(unloaded.astype(float), np.ones(2 * half + 1), mode="full")
+    return near[half : half + unloaded.size] > 0.0
 
 
 def _oscillation_frequency(
