@@ -255,6 +255,9 @@ def test_start_up_transient_is_outside_the_default_window():
     assert whole.flange_climb.passed is True  # below Nadal's 1.20
     # one wheel pushed with 1.16 * 98.1 kN = 114 kN: the axle's sum Y exceeds 75.4 kN too
     assert whole.safety_exceeded and whole.exceedances == ["y_over_q", "sum_y"]
+    assert whole.state_with_exceedances("completed") == "completed_with_exceedances"
+    assert whole.state_with_exceedances("derailed") == "derailed"
+    assert s.state_with_exceedances("completed") == "completed"
     assert whole["evaluation_window"]["rule"] == "evaluate_from"
     # a short run: 10 % of it; a window beyond the end falls back to the whole run
     short = summary_of(series(x[x < 50.0], 0.0))

@@ -173,6 +173,13 @@ class RunSummary(Mapping):
         """True when any safety criterion is exceeded: the run's status should say so."""
         return bool(self.exceedances)
 
+    def state_with_exceedances(self, state: str) -> str:
+        """The run state to report: ``"completed_with_exceedances"`` for a ``"completed"`` run
+        that exceeds a safety criterion, else ``state`` unchanged (``"derailed"`` stays)."""
+        return (
+            "completed_with_exceedances" if state == "completed" and self.safety_exceeded else state
+        )
+
     # -- JSON form ---------------------------------------------------------------------------
 
     def to_dict(self) -> dict:
