@@ -466,3 +466,16 @@ def test_run_figures_and_save(tmp_path):
     assert len(run_figures(ts)) == 5  # without a summary
     paths = save_figure(figs["lateral_force"], tmp_path / "figs" / "lateral_force")
     assert [p.suffix for p in paths] == [".png", ".svg"]
+
+
+def test_a_one_metre_flange_contact_is_marked_on_a_500_m_run():
+    """A 1 m flange contact in a 500 m run spans 2 pixels of a 10 inch figure; its marker (a
+    triangle at its start, 7 points wide) is drawn whatever its length."""
+    x = np.arange(0.0, 500.0, 0.05)
+    angle = np.where((x >= 321.0) & (x < 322.0), math.radians(68), 0.02)
+    ts = make_ts(x, [0.0], angles={(1, "right"): angle})
+    ax = run_figures(ts, summary_of(ts))["lateral_force"].axes[0]
+    (marker,) = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    assert marker.get_xdata() == pytest.approx([321.0])
+    assert marker.get_markersize() >= 6
+    assert marker.get_label() == "right flange contact (> 45 deg)"
