@@ -1,9 +1,10 @@
 """Results of a running simulation: the time series, signal helpers and the typed summary.
 
 - :mod:`.timeseries`: :class:`TimeSeries` (the recorded columns, CSV, pandas);
-- :mod:`.summary`: :func:`summarize` (a :class:`RunSummary` with every criterion of
-  :mod:`railexu.assessment` over the evaluation window), :func:`write_summary`,
-  :func:`read_summary`.
+- :mod:`.summary`: the typed :class:`RunSummary` (``to_dict()`` is ``summary.json``),
+  :func:`write_summary`, :func:`read_summary`;
+- :mod:`.evaluate`: :func:`summarize`, a :class:`RunSummary` with every criterion of
+  :mod:`railexu.assessment` over the evaluation window.
 
 The signal helpers (sliding means and rms, windowed means, zero crossings, the one definition
 of an oscillation's amplitude) live in :mod:`railexu.assessment.signals`, so that the assessment
@@ -35,17 +36,8 @@ from ..assessment.signals import (
     zero_crossing_wavelength,
     zero_crossings,
 )
-from .summary import (
-    FORMAT_VERSION,
-    MIN_LOAD_FRACTION,
-    EvaluationWindow,
-    RunSummary,
-    evaluation_window,
-    read_summary,
-    summarize,
-    write_summary,
-    y_over_q,
-)
+from .evaluate import MIN_LOAD_FRACTION, evaluation_window, summarize, y_over_q
+from .summary import FORMAT_VERSION, EvaluationWindow, RunSummary, read_summary, write_summary
 from .timeseries import ResultsError, TimeSeries
 
 #: EN 14363 track-shifting factor alpha (kept for older code: see ``ALPHA`` by category).
