@@ -422,6 +422,7 @@ def run(
         friction=vehicle.contact.friction,
         flange_angle_rad=flange_angle,
         static_axle_loads_N=axle_loads,
+        track_irregular=track.irregularity.type != "none",
     )
     t_done = time.perf_counter()
     timings = {

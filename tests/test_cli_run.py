@@ -62,7 +62,13 @@ def test_run_writes_timeseries_summary_and_plots(tmp_path, capsys):
     nadal = (tan70 - 0.3) / (1 + 0.3 * tan70)
     assert abs(summary["max_Y_over_Q"]["nadal_limit"] - nadal) < 1e-3
     pngs = {p.name for p in out.glob("*.png")}
-    assert pngs == {"lateral_displacement.png", "lateral_force.png", "y_over_q.png"}
+    assert pngs == {
+        "lateral_displacement.png",
+        "lateral_force.png",
+        "y_over_q.png",
+        "wheel_load.png",
+        "sum_y.png",
+    }
     # redraw from the files
     for p in out.glob("*.png"):
         p.unlink()

@@ -30,7 +30,7 @@ from railexu.results import (
 
 G = 9.81
 V = 30.0  # m/s
-KLINGEL_L = 2 * math.pi * math.sqrt(0.75 * 0.625 / 0.05)  # 19.24 m, physics.md section 7
+KLINGEL_L = 2 * math.pi * math.sqrt(0.75 * 0.625 / 0.05)  # 19.24 m, Klingel (1883)
 AXLE_LOAD_N = 80e3 * G / 4  # EU07: 80 t on 4 axles
 WHEEL_LOAD_N = AXLE_LOAD_N / 2
 SUMMARY_KEYS = {
@@ -43,6 +43,10 @@ SUMMARY_KEYS = {
     "max_sum_Y_N",
     "running_stability",
     "hunting",
+    "format_version",
+    "evaluation_window",
+    "assessment",
+    "comfort",
 }
 
 
@@ -283,7 +287,11 @@ def test_track_shifting_force_and_running_stability():
     assert t["exceeded"] is False
     r = s["running_stability"]
     assert r["limit_N"] == pytest.approx(0.5 * t["limit_N"])
-    assert r["rms_sum_Y_N"] == pytest.approx(60e3 / math.sqrt(2), rel=1e-3)
+    # EN 14363 band f0 +- 2 Hz around f0 = 30 m/s / 20 m = 1.5 Hz (lower edge raised to 0.5 Hz);
+    # the band-passed sine keeps its rms A/sqrt(2) to 0.5 %: the 4th-order Butterworth passes
+    # 1.5 Hz with a gain of 0.9999, the rest is the filter's start-up ripple in the first window
+    assert r["band_Hz"] == pytest.approx([0.5, 3.5], rel=0.01)
+    assert r["rms_sum_Y_N"] == pytest.approx(60e3 / math.sqrt(2), rel=5e-3)
     assert r["exceeded"] is True
     # freight wagon: alpha = 0.85
     assert summary_of(ts, locomotive=False)["max_sum_Y_N"]["limit_N"] == pytest.approx(
@@ -313,7 +321,9 @@ def test_flange_contact_first_distance():
     assert f["occurred"] is True
     assert f["first_distance_m"] == pytest.approx(37.3)  # first sample at or beyond 37.25 m
     f0 = summary_of(make_ts(x, [0.0, 0.0]))["flange_contact"]
-    assert f0 == {"occurred": False, "first_distance_m": None}
+    assert f0 == {"occurred": False, "first_distance_m": None, "length_m": {}}
+    # how long: from 37.3 m to the end of the run (100 m), on the right wheel of axle 2
+    assert f["length_m"] == {"ws2_right": pytest.approx(100.0 - 37.3, abs=0.15)}
 
 
 def test_truncated_derailed_run_still_summarises(tmp_path):
@@ -329,9 +339,9 @@ def test_truncated_derailed_run_still_summarises(tmp_path):
     assert s["status"] == status
     assert s["flange_contact"]["occurred"] is True
     assert s["wheelsets"][0]["max_abs_lateral_m"] < 12e-3  # NaN row dropped
-    json.dumps(s, allow_nan=False)
+    json.dumps(s.to_dict(), allow_nan=False)
     path = write_summary(s, tmp_path / "out" / "summary.json")
-    assert read_summary(path) == s
+    assert read_summary(path) == s.to_dict()
 
 
 def test_summary_argument_checks():
@@ -425,12 +435,47 @@ def test_run_figures_and_save(tmp_path):
     )
     s = summary_of(ts)
     figs = run_figures(ts, s, title="EU07 at 30 m/s")
-    assert set(figs) == {"lateral_displacement", "lateral_force", "y_over_q"}
+    assert set(figs) == {"lateral_displacement", "lateral_force", "y_over_q", "wheel_load", "sum_y"}
     for fig in figs.values():
         for ax in fig.axes:
             assert ax.get_xlabel() and ax.get_ylabel() and "[" in ax.get_ylabel()
+    # displacement: one line per wheelset and body, the hunting verdict in the title
+    ax = figs["lateral_displacement"].axes[0]
+    assert len(ax.get_lines()) == 4
+    assert "hunting" in ax.get_title()
+    # lateral force: one subplot per wheelset; a flange-contact marker at the start of each of
+    # the 6 flange spans of ws1's left wheel (one per period of 20 m over 120 m)
     assert len(figs["lateral_force"].axes) == 2
-    assert len(run_figures(ts)) == 3  # without a summary
+    markers = [ln for ln in figs["lateral_force"].axes[0].get_lines() if ln.get_marker() == "v"]
+    assert len(markers) == 1 and len(markers[0].get_xdata()) == 6
+    # Y/Q: the EN 14363 limit and Nadal's value are labelled as such; the data reach
+    # 30 kN / 98 kN = 0.31: the limit 0.8 (within 3 times the data) is drawn, Nadal's 1.20 is
+    # written above the axis so that the data stay readable
+    ax = figs["y_over_q"].axes[0]
+    assert "EN 14363 limit (Y/Q)_lim = 0.80" in [ln.get_label() for ln in ax.get_lines()]
+    assert "Nadal flange-climb value 1.20 (information)" in ax.texts[0].get_text()
+    assert "EN 14363" in figs["y_over_q"].texts[0].get_text()  # suptitle names the limit's source
+    # wheel load: Q and unloading side by side per wheelset, the unloading limit drawn
+    assert len(figs["wheel_load"].axes) == 4
+    assert figs["wheel_load"].axes[1].get_ylabel() == "unloading dQ/Q0 [-]"
+    # sum Y: raw, 2 m mean and the limit +-75.4 kN (within 3 times the data's 30 kN: drawn)
+    ax = figs["sum_y"].axes[0]
+    assert ax.get_ylabel() == "sum Y [kN]"
+    assert len(ax.get_lines()) == 4
+    assert "EN 14363 limit 75.4 kN" in [ln.get_label() for ln in ax.get_lines()]
+    assert len(run_figures(ts)) == 5  # without a summary
     paths = save_figure(figs["lateral_force"], tmp_path / "figs" / "lateral_force")
     assert [p.suffix for p in paths] == [".png", ".svg"]
-    assert all(p.stat().st_size > 0 for p in paths)
+
+
+def test_a_one_metre_flange_contact_is_marked_on_a_500_m_run():
+    """A 1 m flange contact in a 500 m run spans 2 pixels of a 10 inch figure; its marker (a
+    triangle at its start, 7 points wide) is drawn whatever its length."""
+    x = np.arange(0.0, 500.0, 0.05)
+    angle = np.where((x >= 321.0) & (x < 322.0), math.radians(68), 0.02)
+    ts = make_ts(x, [0.0], angles={(1, "right"): angle})
+    ax = run_figures(ts, summary_of(ts))["lateral_force"].axes[0]
+    (marker,) = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    assert marker.get_xdata() == pytest.approx([321.0])
+    assert marker.get_markersize() >= 6
+    assert marker.get_label() == "right flange contact (> 45 deg)"

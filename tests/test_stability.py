@@ -14,11 +14,15 @@ from scipy.optimize import brentq
 from railexu.cli import main
 from railexu.contact.hertz import hertz_contact
 from railexu.contact.kalker import kalker_coefficients
+from railexu.report.stability_figures import critical_speed_figures
 from railexu.stability import (
     CriticalSpeedSettings,
     bisection_critical_speed,
+    body_roles,
+    compare_linear_nonlinear,
     critical_speed_settings_from_dict,
     linear_stability,
+    name_mode,
     profile_equivalent_conicity,
     ramp_critical_speed,
 )
@@ -172,5 +176,94 @@ def test_settings_from_dict_and_cli(tmp_path, capsys):
                 "settings"):  # fmt: skip
         assert key in data
     assert 40.0 < data["linear_m_per_s"] < 70.0
-    assert (out / "linear_stability.png").exists() and (out / "linear_stability.svg").exists()
-    assert "linear:" in capsys.readouterr().out
+    # the EU07's lowest zero-damping speed is that of its bogie hunting mode, as before the modes
+    # were named; the car-body modes stay damped over the range
+    assert data["linear_mode"] == "bogie hunting"
+    modes = data["linear"]["modes"]
+    assert modes["bogie hunting"]["critical_speed_m_per_s"] == pytest.approx(data["linear_m_per_s"])
+    for name in ("car-body lateral", "car-body yaw", "car-body roll"):
+        assert modes[name]["critical_speed_m_per_s"] is None and modes[name]["stable_in_range"]
+    assert data["comparison"] is None  # no nonlinear method run
+    for name in ("linear_stability", "root_locus"):
+        assert (out / f"{name}.png").exists() and (out / f"{name}.svg").exists()
+    text = capsys.readouterr().out
+    assert "linear:" in text and "bogie hunting mode" in text
+    # figure content: one damping line per named mode, the crossing starred; the root locus
+    # has one scatter per mode, damping ratio against frequency, and a speed colour bar
+    figs = critical_speed_figures(data)
+    ax = figs["linear_stability"].axes[0]
+    assert ax.get_ylabel() == "damping ratio [-]"
+    assert len([ln for ln in ax.get_lines() if ln.get_marker() == "*"]) == 1
+    assert len(ax.get_legend().get_texts()) == len(modes)
+    rl = figs["root_locus"].axes
+    assert rl[0].get_xlabel() == "frequency [Hz]" and rl[0].get_ylabel() == "damping ratio [-]"
+    assert len(rl[0].collections) == len(modes) and rl[1].get_ylabel() == "speed [m/s]"
+
+
+def test_modes_are_named_by_their_participation():
+    eu07 = load_vehicle(VEHICLES / "eu07.yaml")
+    roles = body_roles(eu07)
+    assert roles["car_body"] == "car_body" and roles["bogie_1"] == "bogie"
+    assert roles["ws1"] == "wheelset"
+    bogie = load_vehicle(VEHICLES / "eu07_bogie.yaml")
+    assert set(body_roles(bogie).values()) == {"bogie", "wheelset"}
+    assert name_mode({"wheelset:lateral": 0.5, "wheelset:yaw": 0.2, "bogie:lateral": 0.2}) == (
+        "wheelset hunting"
+    )
+    assert name_mode({"wheelset:lateral": 0.2, "bogie:yaw": 0.3, "bogie:lateral": 0.3}) == (
+        "bogie hunting"
+    )
+    assert name_mode({"car_body:yaw": 0.6, "car_body:lateral": 0.2, "bogie:lateral": 0.1}) == (
+        "car-body yaw"
+    )
+    assert name_mode({"car_body:roll": 0.5, "car_body:lateral": 0.4}) == "car-body roll"
+    assert name_mode({"car_body:other": 0.8, "car_body:lateral": 0.2}) is None  # vertical
+
+
+def test_soft_secondary_damping_reports_the_car_body_mode():
+    """The EU07 with almost no secondary lateral and yaw damping (0.2 kN s/m per side, 1 kN m s/rad
+    at the pivots instead of 15 kN s/m and 60 kN m s/rad): the car body's yaw mode on the
+    secondary suspension (0.87 Hz) is destabilised where the wheelsets' kinematic frequency
+    V / L meets it, near 11 m/s (L about 17 m with the equivalent conicity): the classical
+    car-body instability at low speed. The analysis names that mode; the bogie hunting mode
+    stays damped at these speeds."""
+    vehicle = load_vehicle(
+        VEHICLES / "eu07.yaml",
+        [
+            "suspension.secondary_1.damping.y=0.2 kN s/m",
+            "suspension.secondary_2.damping.y=0.2 kN s/m",
+            "suspension.pivot_yaw_1.damping=1 kN m s/rad",
+            "suspension.pivot_yaw_2.damping=1 kN m s/rad",
+        ],
+    )
+    settings = CriticalSpeedSettings(
+        methods=("linear",), speed_min_m_per_s=5.0, speed_max_m_per_s=25.0, linear_points=3
+    )
+    result = linear_stability(vehicle, None, settings)
+    assert result["critical_mode"] == "car-body yaw"
+    # where V / L = 0.87 Hz for L = 2 pi sqrt(e0 r0 / gamma_e) of the equivalent conicity
+    gamma = result["equivalent_conicity"]
+    kinematic = 0.87 * 2 * np.pi * np.sqrt(0.75 * 0.625 / gamma)
+    assert 5.0 < result["critical_speed_m_per_s"] < 20.0
+    assert result["critical_speed_m_per_s"] == pytest.approx(kinematic, rel=0.5)
+    assert result["modes"]["bogie hunting"]["stable_in_range"]
+    assert result["hunting_critical_speed_m_per_s"] is None
+    # a nonlinear value far above it gets an explanation naming the car-body mode
+    data = {"linear_m_per_s": result["critical_speed_m_per_s"], "linear": result,
+            "nonlinear_bisection_m_per_s": 60.0, "nonlinear_ramp_m_per_s": None}  # fmt: skip
+    note = compare_linear_nonlinear(data, settings)
+    assert "car-body yaw" in note and "secondary suspension" in note and "threshold" in note
+
+
+def test_comparison_words():
+    settings = CriticalSpeedSettings()
+    lin = {"critical_mode": "bogie hunting", "hunting_critical_speed_m_per_s": 50.0}
+
+    def compare(linear, bisection):
+        data = {"linear_m_per_s": linear, "linear": lin, "nonlinear_bisection_m_per_s": bisection}
+        return compare_linear_nonlinear(data, settings)
+
+    assert compare(50.0, 45.0) is None  # 11 %: within 25 %
+    assert "subcritical" in compare(50.0, 35.0)
+    assert "equivalent conicity" in compare(50.0, 70.0)
+    assert compare(None, 35.0) is None and compare(50.0, None) is None

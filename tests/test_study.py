@@ -783,18 +783,24 @@ def test_study_figures_two_parameters_map_and_scatter(tmp_path):
         "study_map_max_abs_lateral_force_N",
         "study_map_hunting_detected",
     }
+    # engineering units: km/h, MN/m, kN; each cell's value written on the map (5 with a value)
     ax = figs["study_map_max_abs_lateral_force_N"].axes[0]
-    assert ax.get_xlabel() == "run.speed [m/s]"
-    assert ax.get_ylabel() == "vehicle.suspension.primary_ws*.stiffness.x [N/m]"
+    assert ax.get_xlabel() == "run speed [km/h]"
+    assert ax.get_ylabel() == "vehicle suspension primary ws* stiffness x [MN/m]"
     assert figs["study_map_max_abs_lateral_force_N"].axes[1].get_ylabel() == (
-        "max_abs_lateral_force_N [N]"
+        "max abs lateral force [kN]"
     )
+    assert sorted(t.get_text() for t in ax.texts) == ["10", "10", "20", "30", "30"]
+    # a boolean result: markers (filled = true, open = false), no colour bar
+    assert len(figs["study_map_hunting_detected"].axes) == 1
     vs = figs["study_vs_run_speed"].axes
     assert [a.get_title(loc="left") for a in vs] == [
-        "max_abs_lateral_force_N [N]",
-        "hunting.detected (1 = true)",
+        "max abs lateral force",
+        "hunting detected (true / false)",
     ]
-    assert [a.get_ylabel() for a in vs] == ["[N]", "0 / 1"]
+    assert [a.get_ylabel() for a in vs] == ["[kN]", ""]
+    assert [t.get_text() for t in vs[1].get_yticklabels()] == ["false", "true"]
+    assert all(ln.get_linestyle() == "None" for ln in vs[1].get_lines())
     written = []
     for name, fig in figs.items():
         written += save_figure(fig, tmp_path / name)

@@ -87,6 +87,13 @@ def command(args: argparse.Namespace) -> int:
             note = section.get("note") or (
                 "unstable at every speed in range" if section.get("unstable_in_range") else ""
             )
-            print(f"  {label}: {fmt(result[key])}" + (f"  [{note}]" if note else ""))
+            mode = f", {result['linear_mode']} mode" if method == "linear" and result.get(
+                "linear_mode") else ""  # fmt: skip
+            print(f"  {label}: {fmt(result[key])}{mode}" + (f"  [{note}]" if note else ""))
+            if method == "linear":
+                for name, m in (section.get("modes") or {}).items():
+                    print(f"    {name}: zero damping at {fmt(m['critical_speed_m_per_s'])}")
+    if result.get("comparison"):
+        print(f"  note: {result['comparison']}")
     print(f"  wrote {len(written)} files to {args.out}")
     return 0

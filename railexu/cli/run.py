@@ -125,8 +125,10 @@ def command(args: argparse.Namespace) -> int:
     return EXIT_OK if result.status["state"] == "completed" else EXIT_FAILED
 
 
-def format_summary(summary: dict) -> str:
-    """A few lines for the console from a run's ``summary.json`` content."""
+def format_summary(summary) -> str:
+    """A few lines for the console from a run's summary (a ``RunSummary`` or the dict of
+    ``summary.json``): status, evaluation window, motion, every criterion with its limit and
+    verdict, hunting, ride comfort."""
     st = summary["status"]
     lines = [f"status: {st['state']} at {st['distance_m']:.1f} m" + (
         f" ({st['reason']})" if st.get("reason") else ""
@@ -134,7 +136,12 @@ def format_summary(summary: dict) -> str:
     rt = summary.get("realtime_factor")
     if rt is not None:
         lines.append(f"real-time factor: {rt:.1f} (simulated seconds per wall-clock second)")
+    win = summary.get("evaluation_window") or {}
+    if win.get("from_m") is not None:
+        lines.append(f"evaluated from {win['from_m']:.1f} m to {win['to_m']:.1f} m ({win['rule']})")
     for ws in summary.get("wheelsets", []):
+        if ws.get("max_abs_lateral_m") is None:
+            continue
         lines.append(
             f"  {ws['name']}: max |lateral| {ws['max_abs_lateral_m'] * 1e3:.2f} mm, final "
             f"amplitude {ws['final_amplitude_m'] * 1e3:.2f} mm"
@@ -144,25 +151,65 @@ def format_summary(summary: dict) -> str:
         lines.append(f"flange contact from {fc['first_distance_m']:.1f} m")
     else:
         lines.append("no flange contact")
-    h = summary.get("hunting", {})
-    if h.get("detected"):
-        lines.append(
-            f"hunting: wavelength {h['wavelength_m']:.2f} m, {h['frequency_Hz']:.2f} Hz, "
-            f"amplitude {h['amplitude_m'] * 1e3:.2f} mm"
-        )
-    else:
-        lines.append("no hunting (the lateral motion decays or stays below the threshold)")
-    if "max_abs_lateral_force_N" in summary:
+    lines.append(_hunting_line(summary.get("hunting") or {}))
+    if summary.get("max_abs_lateral_force_N") is not None:
         lines.append(f"max |Y|: {summary['max_abs_lateral_force_N'] / 1e3:.2f} kN")
+    assessment = summary.get("assessment") or {}
+    for name, c in (assessment.get("criteria") or {}).items():
+        lines.append("  " + _criterion_line(name, c))
+    if assessment.get("exceedances"):
+        lines.append(f"SAFETY CRITERIA EXCEEDED: {', '.join(assessment['exceedances'])}")
     yq = summary.get("max_Y_over_Q") or {}
-    if yq.get("value") is not None:
-        mean = yq.get("value_2m")
-        mean_text = f"2 m mean {mean:.3f}, " if mean is not None else ""
-        lines.append(f"max Y/Q: {yq['value']:.3f} ({mean_text}Nadal limit {yq['nadal_limit']:.2f})")
-    sy = summary.get("max_sum_Y_N") or {}
-    if sy.get("value") is not None:
-        lines.append(
-            f"max sum Y (2 m mean): {sy['value'] / 1e3:.2f} kN (EN 14363 limit "
-            f"{sy['limit_N'] / 1e3:.1f} kN)"
-        )
+    if yq.get("nadal_limit") is not None:
+        lines.append(f"  (Nadal's flange-climb limit for this flange and friction: "
+                     f"{yq['nadal_limit']:.2f}, information)")  # fmt: skip
+    lines.extend(_comfort_lines(summary.get("comfort") or {}))
     return "\n".join(lines)
+
+
+_CRITERION_LABELS = {
+    "y_over_q": ("Y/Q (EN 14363)", 1.0, ""),
+    "sum_y": ("sum Y, track shifting (EN 14363)", 1e-3, " kN"),
+    "running_stability": ("running stability, rms sum Y (EN 14363)", 1e-3, " kN"),
+    "wheel_unloading": ("wheel unloading dQ/Q0", 1.0, ""),
+    "flange_climb": ("flange climb, Y/Q 2 m against Nadal", 1.0, ""),
+}
+
+
+def _criterion_line(name: str, c: dict) -> str:
+    label, scale, unit = _CRITERION_LABELS.get(name, (name, 1.0, ""))
+    if c.get("value") is None:
+        return f"{label}: not evaluated" + (f" ({c['note']})" if c.get("note") else "")
+    verdict = {True: "pass", False: "EXCEEDED", None: "-"}[c.get("pass")]
+    where = f" at {c['where']}" if c.get("where") else ""
+    if c.get("distance_m") is not None:
+        where += f", {c['distance_m']:.1f} m"
+    limit = c["limit"] * scale if c.get("limit") is not None else float("nan")
+    return f"{label}: {c['value'] * scale:.3g}{unit} (limit {limit:.3g}{unit}) {verdict}{where}"
+
+
+def _hunting_line(h: dict) -> str:
+    verdict = h.get("verdict") or ("hunting" if h.get("detected") else "no hunting")
+    text = f"hunting: {'YES' if h.get('detected') else 'no'} ({verdict}"
+    if h.get("amplitude_m") is not None:
+        text += f", amplitude {h['amplitude_m'] * 1e3:.2f} mm"
+    if h.get("frequency_Hz") is not None:
+        text += f", {h['frequency_Hz']:.2f} Hz, wavelength {h['wavelength_m']:.2f} m"
+    return text + ")"
+
+
+def _comfort_lines(comfort: dict) -> list[str]:
+    points = comfort.get("points") or {}
+    if not points:
+        return [f"ride comfort: not evaluated ({comfort.get('note', 'no accelerations')})"]
+    lines = [f"ride comfort ({comfort.get('note', '')}):"]
+    for name, p in points.items():
+        parts = []
+        if p.get("N_MV") is not None:
+            parts.append(f"N_MV {p['N_MV']:.2f} ({p['N_MV_details']['class']})")
+        for key, label in (("sperling_lateral_Wz", "Wz lateral"),
+                           ("sperling_vertical_Wz", "Wz vertical")):  # fmt: skip
+            if p.get(key) is not None:
+                parts.append(f"{label} {p[key]:.2f}")
+        lines.append(f"  {name}: " + ", ".join(parts))
+    return lines

@@ -1,4 +1,7 @@
-"""Figures of a run: lateral displacement, lateral force, Y/Q against distance."""
+"""Figures of a run against the distance travelled: lateral displacement, lateral force with
+flange contact, Y/Q against EN 14363's limit (and Nadal's, as information), wheel load Q and
+unloading Delta Q / Q0, track-shifting force sum Y against its limit, and the accelerations of
+the measurement points with their ride comfort."""
 
 from __future__ import annotations
 
@@ -69,27 +72,80 @@ def _envelope(x: np.ndarray, y: np.ndarray, buckets: int = 1000) -> tuple[np.nda
     return x[idx], y[idx]
 
 
-def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") -> dict[str, Figure]:
+def _summary_dict(summary) -> dict:
+    if summary is None:
+        return {}
+    return summary.to_dict() if hasattr(summary, "to_dict") else dict(summary)
+
+
+def _shade_outside_window(ax, summary: dict, x: np.ndarray) -> None:
+    """Grey out the stretches outside the evaluation window (not assessed)."""
+    win = summary.get("evaluation_window") or {}
+    lo, hi = win.get("from_m"), win.get("to_m")
+    if lo is not None and len(x) and lo > x[0]:
+        ax.axvspan(x[0], lo, color="0.85", lw=0, zorder=0, label="not evaluated (start-up)")
+    if hi is not None and len(x) and hi < x[-1]:
+        ax.axvspan(hi, x[-1], color="0.85", lw=0, zorder=0)
+
+
+def _mark_flange_contact(ax, x: np.ndarray, flange: np.ndarray, colour: str, label: str) -> None:
+    """Shade the flange-contact spans and put a marker above each one, so that a 1 m contact is
+    visible on a 500 m axis (a span alone would be thinner than a pixel)."""
+    if not flange.any():
+        return
+    ax.fill_between(x, 0, 1, where=flange, transform=ax.get_xaxis_transform(), color=colour,
+                    alpha=0.15, lw=0)  # fmt: skip
+    starts = x[np.flatnonzero(np.diff(np.concatenate(([0], flange.astype(int)))) == 1)]
+    ax.plot(starts, np.full(starts.shape, 0.97), "v", color=colour, ms=7,
+            transform=ax.get_xaxis_transform(), clip_on=False, label=label)  # fmt: skip
+
+
+def _limit_lines(ax, data_max: float, limits: list[tuple[float, str, str]]) -> None:
+    """Horizontal limit lines; a limit far above the data (more than 3 times its maximum) is
+    written in the corner instead, so that the data stay readable."""
+    off_scale = []
+    for value, label, style in limits:
+        if value <= 3.0 * max(data_max, 0.0) or data_max <= 0.0:
+            ax.axhline(value, color="k", ls=style, lw=1.0, label=label)
+        else:
+            off_scale.append(label)
+    if off_scale:
+        ax.text(0.01, 0.97, "above the axis: " + "; ".join(off_scale), transform=ax.transAxes,
+                va="top", fontsize="small", color="0.2")  # fmt: skip
+
+
+def _nanmax(*arrays: np.ndarray) -> float:
+    values = [np.nanmax(a) for a in arrays if a.size and np.any(np.isfinite(a))]
+    return float(max(values)) if values else 0.0
+
+
+def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figure]:
     """Figures of a running simulation against the distance travelled (m).
 
     - ``"lateral_displacement"``: lateral displacement (mm, positive left) of every wheelset
-      (solid) and of the other bodies (dashed);
-    - ``"lateral_force"``: lateral contact force Y (kN, on the wheel, positive left) of the left
-      and right wheel, one subplot per wheelset; spans with a flange contact (largest loaded
-      contact angle above 45 deg) are shaded in the wheel's colour;
-    - ``"y_over_q"``: Y/Q of every wheel, signed so that the flanging wheel is positive (see
-      :func:`railexu.results.y_over_q`; raw thin, 2 m sliding mean thick), with Nadal's limit
-      from ``summary`` as a horizontal line. Samples where Q is below 5 % of the mean wheel load
-      of the run (unloaded wheel) are left out.
+      (solid) and of the other bodies (dashed), with the hunting verdict in the title;
+    - ``"lateral_force"``: lateral contact force Y (kN) of the left and right wheel, one subplot
+      per wheelset; flange contact (largest loaded contact angle above 45 deg) is shaded and
+      marked by a triangle at its start, visible however short it is;
+    - ``"y_over_q"``: Y/Q of every wheel, flanging wheel positive (raw thin, 2 m sliding mean
+      thick), against EN 14363's limit 0.8 and Nadal's flange-climb value (information);
+    - ``"wheel_load"``: wheel load Q (kN) and unloading ``Delta Q / Q0`` with its limit 0.6;
+    - ``"sum_y"``: track-shifting force sum Y (kN) per axle (raw thin, 2 m mean thick) against
+      the EN 14363 limit;
+    - ``"accelerations"`` (when recorded): lateral and vertical accelerations (m/s^2) of each
+      measurement point, with its ride comfort in the subplot title.
+
+    Stretches outside the evaluation window are greyed. Samples where Q is below 5 % of the
+    mean wheel load (unloaded wheel) have no Y/Q.
 
     Args:
         ts: the recorded time series.
-        summary: the dict of :func:`railexu.results.summarize` (wheelset names, Nadal limit,
-            hunting), optional.
+        summary: the run's summary (:class:`railexu.results.RunSummary` or its dict), optional.
         title: figure title prefix (vehicle, speed...).
     """
     from ..results import MIN_LOAD_FRACTION, SAFETY_WINDOW_M, sliding_mean, y_over_q
 
+    summary = _summary_dict(summary)
     x = ts.distance_m
     indices = ts.wheelset_indices()
     labels = _wheelset_labels(ts, summary)
@@ -97,6 +153,8 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
     xlabel = "distance travelled [m]"
     side_colour = {"left": "tab:blue", "right": "tab:red"}
     figs: dict[str, Figure] = {}
+    rows = max(1, len(indices))
+    criteria = (summary.get("assessment") or {}).get("criteria") or {}
 
     # 1. lateral displacement
     # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
@@ -106,32 +164,14 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
     for i in indices:
         ax.plot(*_envelope(x, ts[f"ws{i}_lateral_m"] * 1e3), lw=1.2, label=labels[i])
     for body in ts.body_names():
-        ax.plot(
-            *_envelope(x, ts[f"{body}_lateral_m"] * 1e3),
-            "--",
-            lw=1.0,
-            label=body.replace("_", " "),
-        )
-    hunting = (summary or {}).get("hunting") or {}
-    extra = ""
-    if hunting.get("wavelength_m"):
-        state = "hunting" if hunting.get("detected") else "no hunting"
-        extra = f" ({state}, wavelength {hunting['wavelength_m']:.2f} m"
-        if hunting.get("frequency_Hz"):
-            extra += f", {hunting['frequency_Hz']:.2f} Hz"
-        extra += ")"
-    elif hunting:
-        extra = " (hunting)" if hunting.get("detected") else " (no hunting)"
-    _finish_axes(
-        ax,
-        xlabel,
-        "lateral displacement (positive left) [mm]",
-        f"{prefix}lateral displacement{extra}",
-    )
+        ax.plot(*_envelope(x, ts[f"{body}_lateral_m"] * 1e3), "--", lw=1.0,
+                label=body.replace("_", " "))  # fmt: skip
+    _shade_outside_window(ax, summary, x)
+    _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]",
+                 f"{prefix}lateral displacement{_hunting_text(summary)}")  # fmt: skip
     figs["lateral_displacement"] = fig
 
     # 2. lateral force with flange contact
-    rows = max(1, len(indices))
     fig = _stacked_figure(rows)
     axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     for ax, i in zip(axes, indices, strict=False):
@@ -140,58 +180,135 @@ def run_figures(ts: TimeSeries, summary: dict | None = None, title: str = "") ->
             if f"{name}_Y_N" not in ts:
                 continue
             c = side_colour[side]
-            ax.plot(
-                *_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0, label=f"{side} wheel Y"
-            )
-            angle_col = f"{name}_max_angle_rad"
-            if angle_col in ts:
-                flange = ts[angle_col] > _FLANGE_ANGLE_PLOT_RAD
-                if flange.any():
-                    ax.fill_between(
-                        x,
-                        0,
-                        1,
-                        where=flange,
-                        transform=ax.get_xaxis_transform(),
-                        color=c,
-                        alpha=0.15,
-                        lw=0,
-                        label=f"{side} flange contact (> 45 deg)",
-                    )
+            ax.plot(*_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0,
+                    label=f"{side} wheel Y")  # fmt: skip
+            if f"{name}_max_angle_rad" in ts:
+                flange = ts[f"{name}_max_angle_rad"] > _FLANGE_ANGLE_PLOT_RAD
+                _mark_flange_contact(ax, x, flange, c, f"{side} flange contact (> 45 deg)")
         ax.axhline(0.0, color="0.5", lw=0.6)
+        _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "lateral force Y [kN]", f"{labels[i]}: lateral force on wheels")
     fig.suptitle(f"{prefix}lateral wheel-rail force (on the wheel, positive left)")
     figs["lateral_force"] = fig
 
     # 3. Y/Q, flanging wheel positive
-    fig = _stacked_figure(rows)
-    axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     q_cols = [ts[f"ws{i}_{s}_Q_N"] for i in indices for s in SIDES if f"ws{i}_{s}_Q_N" in ts]
     mean_q = float(np.nanmean(np.concatenate(q_cols))) if q_cols and len(ts) else 0.0
-    nadal = ((summary or {}).get("max_Y_over_Q") or {}).get("nadal_limit")
+    yq_info = summary.get("max_Y_over_Q") or {}
+    limit = yq_info.get("limit") or 0.8
+    nadal = yq_info.get("nadal_limit")
+    fig = _stacked_figure(rows)
+    axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     for ax, i in zip(axes, indices, strict=False):
+        top = 0.0
         for side in SIDES:
             if f"ws{i}_{side}_Y_N" not in ts or f"ws{i}_{side}_Q_N" not in ts:
                 continue
             c = side_colour[side]
             yq = y_over_q(ts, i, side, MIN_LOAD_FRACTION * max(mean_q, 0.0))
             ax.plot(*_envelope(x, yq), color=c, lw=0.7, alpha=0.45, label=f"{side} wheel")
+            top = max(top, _nanmax(yq))
             if len(ts) > 1 and x[-1] - x[0] >= SAFETY_WINDOW_M:
-                ax.plot(
-                    *_envelope(x, sliding_mean(x, yq, SAFETY_WINDOW_M)),
-                    color=c,
-                    lw=1.6,
-                    label=f"{side} wheel, {SAFETY_WINDOW_M:g} m mean",
-                )
+                ax.plot(*_envelope(x, sliding_mean(x, yq, SAFETY_WINDOW_M)), color=c, lw=1.6,
+                        label=f"{side} wheel, {SAFETY_WINDOW_M:g} m mean")  # fmt: skip
+        lines = [(limit, f"EN 14363 limit (Y/Q)_lim = {limit:.2f}", "--")]
         if nadal is not None:
-            ax.axhline(nadal, color="k", ls="--", lw=1.0, label=f"Nadal limit {nadal:.2f}")
+            lines.append((nadal, f"Nadal flange-climb value {nadal:.2f} (information)", ":"))
+        _limit_lines(ax, top, lines)
         ax.axhline(0.0, color="0.5", lw=0.6)
+        _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "Y/Q (flanging positive) [-]", f"{labels[i]}: Y/Q")
-    fig.suptitle(f"{prefix}derailment quotient Y/Q (EN 14363)")
+    fig.suptitle(f"{prefix}derailment quotient Y/Q against the EN 14363 limit")
     figs["y_over_q"] = fig
+
+    # 4. wheel load and unloading
+    unloading = criteria.get("wheel_unloading") or {}
+    static = unloading.get("static_wheel_load_N") or {}
+    fig = _stacked_figure(rows)
+    axes = fig.subplots(rows, 2, sharex=True, squeeze=False)
+    for (ax_q, ax_d), i in zip(axes, indices, strict=False):
+        for side in SIDES:
+            col = f"ws{i}_{side}_Q_N"
+            if col not in ts:
+                continue
+            c = side_colour[side]
+            q = ts[col]
+            q0 = static.get(f"ws{i}_{side}") or (float(np.nanmean(q)) if len(q) else 1.0)
+            ax_q.plot(*_envelope(x, q * 1e-3), color=c, lw=1.0, label=f"{side} wheel Q")
+            ax_d.plot(*_envelope(x, (q0 - q) / q0), color=c, lw=1.0, label=f"{side} wheel")
+        ax_d.axhline(unloading.get("limit") or 0.6, color="k", ls="--", lw=1.0,
+                     label=f"limit {unloading.get('limit') or 0.6:g} (railexu)")  # fmt: skip
+        for ax in (ax_q, ax_d):
+            _shade_outside_window(ax, summary, x)
+        _finish_axes(ax_q, xlabel, "wheel load Q [kN]", f"{labels[i]}: wheel load")
+        _finish_axes(ax_d, xlabel, "unloading dQ/Q0 [-]", f"{labels[i]}: wheel unloading")
+    fig.suptitle(f"{prefix}vertical wheel load Q and unloading (Q0 - Q)/Q0")
+    figs["wheel_load"] = fig
+
+    # 5. sum Y
+    shift = (summary.get("max_sum_Y_N") or {}).get("limit_N")
+    fig = _stacked_figure(rows)
+    axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
+    for ax, i in zip(axes, indices, strict=False):
+        if f"ws{i}_left_Y_N" not in ts or f"ws{i}_right_Y_N" not in ts:
+            continue
+        sum_y = (ts[f"ws{i}_left_Y_N"] + ts[f"ws{i}_right_Y_N"]) * 1e-3
+        ax.plot(*_envelope(x, sum_y), color="0.4", lw=0.7, alpha=0.6, label="sum Y")
+        if len(ts) > 1 and x[-1] - x[0] >= SAFETY_WINDOW_M:
+            ax.plot(*_envelope(x, sliding_mean(x, sum_y, SAFETY_WINDOW_M)), color="tab:purple",
+                    lw=1.6, label=f"sum Y, {SAFETY_WINDOW_M:g} m mean")  # fmt: skip
+        if shift:
+            top = _nanmax(np.abs(sum_y))
+            _limit_lines(ax, top, [(shift * 1e-3, f"EN 14363 limit {shift * 1e-3:.1f} kN", "--"),
+                                   (-shift * 1e-3, f"-{shift * 1e-3:.1f} kN", "--")])  # fmt: skip
+        _shade_outside_window(ax, summary, x)
+        _finish_axes(ax, xlabel, "sum Y [kN]", f"{labels[i]}: track-shifting force")
+    fig.suptitle(f"{prefix}track-shifting force sum Y = Y_left + Y_right (EN 14363)")
+    figs["sum_y"] = fig
+
+    points = ts.measurement_points()
+    if points:
+        figs["accelerations"] = _acceleration_figure(ts, points, summary, prefix, xlabel)
     return figs
 
 
-# ----------------------------------------------------------------------------------------------
-# Study figures (results of ``railexu study``)
-# ----------------------------------------------------------------------------------------------
+def _hunting_text(summary: dict) -> str:
+    hunting = summary.get("hunting") or {}
+    if not hunting:
+        return ""
+    state = "hunting" if hunting.get("detected") else "no hunting"
+    verdict = hunting.get("verdict")
+    text = f" ({state}" + (f": {verdict}" if verdict and verdict != state else "")
+    if hunting.get("wavelength_m"):
+        text += f", wavelength {hunting['wavelength_m']:.2f} m"
+    if hunting.get("frequency_Hz"):
+        text += f", {hunting['frequency_Hz']:.2f} Hz"
+    return text + ")"
+
+
+def _acceleration_figure(ts, points, summary, prefix, xlabel) -> Figure:
+    comfort = ((summary.get("comfort") or {}).get("points")) or {}
+    x = ts.distance_m
+    fig = _stacked_figure(len(points))
+    axes = np.atleast_1d(fig.subplots(len(points), 1, sharex=True, squeeze=False)[:, 0])
+    for ax, p in zip(axes, points, strict=True):
+        for axis, colour in (("y", "tab:blue"), ("z", "tab:green")):
+            col = f"{p}_acc_{axis}_m_per_s2"
+            if col in ts:
+                label = "lateral" if axis == "y" else "vertical"
+                ax.plot(*_envelope(x, ts[col]), color=colour, lw=0.8, label=label)
+        c = comfort.get(p) or {}
+        parts = []
+        if c.get("N_MV") is not None:
+            parts.append(f"N_MV {c['N_MV']:.2f}")
+        if c.get("sperling_lateral_Wz") is not None:
+            parts.append(f"Wz lateral {c['sperling_lateral_Wz']:.2f}")
+        if c.get("sperling_vertical_Wz") is not None:
+            parts.append(f"Wz vertical {c['sperling_vertical_Wz']:.2f}")
+        _shade_outside_window(ax, summary, x)
+        name = p.replace("_", " ")
+        _finish_axes(
+            ax, xlabel, "acceleration [m/s^2]", f"{name}: {', '.join(parts)}" if parts else name
+        )
+    fig.suptitle(f"{prefix}accelerations and ride comfort (EN 12299 N_MV, Sperling Wz)")
+    return fig

@@ -1,0 +1,82 @@
+"""Results of a running simulation: the time series, signal helpers and the typed summary.
+
+- :mod:`.timeseries`: :class:`TimeSeries` (the recorded columns, CSV, pandas);
+- :mod:`.summary`: the typed :class:`RunSummary` (``to_dict()`` is ``summary.json``),
+  :func:`write_summary`, :func:`read_summary`;
+- :mod:`.evaluate`: :func:`summarize`, a :class:`RunSummary` with every criterion of
+  :mod:`railexu.assessment` over the evaluation window.
+
+The signal helpers (sliding means and rms, windowed means, zero crossings, the one definition
+of an oscillation's amplitude) live in :mod:`railexu.assessment.signals`, so that the assessment
+does not import the results package (results -> assessment, never back). The names below stay
+importable from ``railexu.results`` as before the split.
+"""
+
+from ..assessment.en14363 import (
+    ALPHA,
+    CATEGORIES,
+    FLANGE_SIGN,
+    SAFETY_WINDOW_M,
+    SIDES,
+    STABILITY_WINDOW_M,
+    Y_OVER_Q_LIMIT,
+    alpha_for,
+    nadal_limit,
+    track_shifting_limit_N,
+)
+from ..assessment.hunting import FINAL_FRACTION, HUNTING_DECAY_RATIO
+from ..assessment.signals import (
+    CROSSING_HYSTERESIS,
+    amplitude,
+    percentile,
+    sliding_mean,
+    sliding_rms,
+    window_means,
+    window_rms,
+    zero_crossing_wavelength,
+    zero_crossings,
+)
+from .evaluate import MIN_LOAD_FRACTION, evaluation_window, summarize, y_over_q
+from .summary import FORMAT_VERSION, EvaluationWindow, RunSummary, read_summary, write_summary
+from .timeseries import ResultsError, TimeSeries
+
+#: EN 14363 track-shifting factor alpha (kept for older code: see ``ALPHA`` by category).
+ALPHA_LOCOMOTIVE = ALPHA["locomotive"]
+ALPHA_FREIGHT_WAGON = ALPHA["wagon"]
+
+__all__ = [
+    "ALPHA",
+    "ALPHA_FREIGHT_WAGON",
+    "ALPHA_LOCOMOTIVE",
+    "CATEGORIES",
+    "CROSSING_HYSTERESIS",
+    "FINAL_FRACTION",
+    "FLANGE_SIGN",
+    "FORMAT_VERSION",
+    "HUNTING_DECAY_RATIO",
+    "MIN_LOAD_FRACTION",
+    "SAFETY_WINDOW_M",
+    "SIDES",
+    "STABILITY_WINDOW_M",
+    "Y_OVER_Q_LIMIT",
+    "EvaluationWindow",
+    "ResultsError",
+    "RunSummary",
+    "TimeSeries",
+    "alpha_for",
+    "amplitude",
+    "evaluation_window",
+    "nadal_limit",
+    "percentile",
+    "read_summary",
+    "sliding_mean",
+    "sliding_rms",
+    "summarize",
+    "track_shifting_limit_N",
+    "window_means",
+    "window_rms",
+    "write_summary",
+    "y_over_q",
+    "zero_crossing_wavelength",
+    "zero_crossings",
+]
