@@ -15,7 +15,7 @@ from railexu.contact.polach import polach_forces
 G = 8.1e10
 Q = 1.0e5
 MU = 0.3
-_HC = hertz_contact(0.8, 1.0 / 0.6, Q, effective_modulus(210e9, 0.3))  # physics.md typical
+_HC = hertz_contact(0.8, 1.0 / 0.6, Q, effective_modulus(210e9, 0.3))  # docs/theory.md 3.1 example
 A_M, B_M = _HC.a_m, _HC.b_m
 C11, C22, C23 = kalker_coefficients(A_M / B_M, 0.28)
 GEOM = (A_M, B_M, G, C11, C22, C23)

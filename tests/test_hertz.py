@@ -98,7 +98,7 @@ def test_m_n_consistent_with_contact():
 
 
 def test_typical_wheel_on_r300_crown():
-    """physics.md: 1250 mm wheel (conical tread) on the R300 crown, 100 kN.
+    """docs/theory.md section 3.1: 1250 mm wheel (conical tread) on the R300 crown, 100 kN.
 
     A = 1/(2 * 0.625 m) (rolling), B = 1/(2 * 0.3 m) (lateral). Tolerances: half a unit in the
     last quoted digit.

@@ -15,12 +15,12 @@ from railexu.contact.kalker import (
     kalker_table_for_poisson,
 )
 
-# a/b as printed in physics.md (the a > b rows are rounded there: 1.111 = 1/0.9, ...)
+# a/b as printed in docs/theory.md 4.2 (the a > b rows are rounded there: 1.111 = 1/0.9, ...)
 PRINTED_RATIOS = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
 PRINTED_RATIOS += [1.111, 1.25, 1.429, 1.667, 2.0, 2.5, 3.333, 5.0, 10.0]
 
 
-def test_physics_md_example_nu_028():
+def test_kalker_example_nu_028():
     """nu = 0.28, a/b = 1: c11 = 4.226, c22 = 3.705, c23 = 1.488 (quoted to 3 decimals)."""
     c11, c22, c23 = kalker_coefficients(1.0, 0.28)
     assert c11 == pytest.approx(4.226, abs=5e-4)

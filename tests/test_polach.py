@@ -21,7 +21,7 @@ from railexu.contact.polach import (
 G = 8.1e10
 Q = 1.0e5
 MU = 0.3
-# the physics.md typical contact: 1250 mm wheel on the R300 crown, 100 kN
+# the typical contact of docs/theory.md section 3.1: 1250 mm wheel on the R300 crown, 100 kN
 _HC = hertz_contact(0.8, 1.0 / 0.6, Q, effective_modulus(210e9, 0.3))
 A_M, B_M = _HC.a_m, _HC.b_m
 C11, C22, C23 = kalker_coefficients(A_M / B_M, 0.28)

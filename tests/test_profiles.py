@@ -1,6 +1,6 @@
 """Tests of railexu.profiles: analytic S1002 and 60E1, readers, sampled tables, registry.
 
-The external checks are the published S1002 check values and arc data (physics.md section 2)
+The external checks are the published S1002 check values and arc data (docs/theory.md 2.2, 2.3)
 and the Manchester benchmark files, which were made independently of this code.
 """
 
@@ -434,7 +434,7 @@ def test_mbench_rail_file_is_canted_60e1_with_gauge_side_negative():
 
 def test_shared_reference_copies_are_the_packaged_files():
     if not SHARED_PROFILES.is_dir():
-        pytest.skip("../shared/reference/profiles not present")
+        pytest.skip("the original benchmark files are not present")
     for name in ("MBench_S1002_v3.prw", "MBench_UIC60_v3.prr"):
         p = read_simpack_profile(SHARED_PROFILES / name)
         q = mbench_s1002() if name.endswith(".prw") else mbench_uic60()

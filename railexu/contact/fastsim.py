@@ -1,7 +1,7 @@
 """Kalker's FASTSIM: the simplified theory of rolling contact, with spin.
 
 Source: J. J. Kalker, "A fast algorithm for the simplified theory of rolling contact", Vehicle
-System Dynamics 11 (1982) 1-13; physics.md section 5.
+System Dynamics 11 (1982) 1-13; docs/theory.md section 4.5.
 
 Simplified theory: the elastic displacement at a surface point is proportional to the traction
 there, ``u = L p``, with the flexibilities (chosen so that the no-slip limit reproduces Kalker's

@@ -4,7 +4,7 @@ The undeformed gap near the initial contact point is ``h(x, y) = A x^2 + B y^2 -
 ``A`` and ``B`` half the sums of the principal relative curvatures of wheel and rail along the
 rolling direction ``x`` and the lateral direction ``y`` [1/m]; ``delta`` [m] is the approach
 (penetration) of the two bodies. Hertz's solution (Johnson, *Contact Mechanics*, 1985, section 4.2,
-eqs. (4.39)-(4.41); physics.md section 3) gives an elliptical contact patch with semi-axes ``a``
+eqs. (4.39)-(4.41); docs/theory.md 3.1) gives an elliptical contact patch with semi-axes ``a``
 (along ``x``) and ``b`` (along ``y``) and the ellipsoidal pressure ``p0 sqrt(1 - x^2/a^2 -
 y^2/b^2)``.
 
@@ -111,7 +111,7 @@ def effective_modulus(
 ) -> float:
     """Effective (contact) modulus ``E*`` [Pa] of two elastic bodies.
 
-    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (Johnson 1985, eq. (4.22); physics.md section 3).
+    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (Johnson 1985, eq. (4.22); docs/theory.md 3.1).
     When the second body's data are omitted it is made of the same material.
 
     Args:
@@ -161,7 +161,7 @@ def _curvature_ratio(g: float) -> float:
 def solve_axis_ratio(curvature_ratio: float) -> float:
     """Semi-axis ratio ``g = min(a, b)/max(a, b)`` for ``beta = min(A, B)/max(A, B)``.
 
-    Solves ``beta = g^2 (K - E) / (E - g^2 K)`` (Johnson 1985, eq. (4.39); physics.md section 3)
+    Solves ``beta = g^2 (K - E) / (E - g^2 K)`` (Johnson 1985, eq. (4.39); docs/theory.md 3.1)
     by Brent's method to ~1e-15 relative accuracy.
 
     Args:
@@ -206,8 +206,8 @@ def _shape(A: float, B: float) -> tuple[float, float, float, float]:
 def hertz_stiffness(A: float, B: float, e_star_Pa: float) -> float:
     """Hertz contact stiffness ``K_H`` [N/m^1.5] with ``N = K_H delta^1.5``.
 
-    ``K_H = (sqrt(2) pi E* / 3) sqrt(rho E) / (g K^(3/2))``, ``rho = 2/(A + B)`` (physics.md
-    section 3, from Johnson 1985 eqs. (4.39)-(4.41)).
+    ``K_H = (sqrt(2) pi E* / 3) sqrt(rho E) / (g K^(3/2))``, ``rho = 2/(A + B)`` (docs/theory.md
+    section 3.1, from Johnson 1985 eqs. (4.39)-(4.41)).
 
     Args:
         A: half the sum of the principal curvatures along ``x`` (rolling) [1/m].
@@ -222,7 +222,7 @@ def hertz_stiffness(A: float, B: float, e_star_Pa: float) -> float:
 def hertz_contact(A: float, B: float, normal_force_N: float, e_star_Pa: float) -> HertzContact:
     """Hertz's solution for the normal force ``N`` (exact, via elliptic integrals).
 
-    Johnson 1985, section 4.2, eqs. (4.39)-(4.41); physics.md section 3. The semi-axis along the
+    Johnson 1985, section 4.2, eqs. (4.39)-(4.41); docs/theory.md 3.1. The semi-axis along the
     direction of larger curvature is the shorter one.
 
     Args:

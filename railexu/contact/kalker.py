@@ -1,7 +1,7 @@
 """Kalker's linear theory of rolling contact: creepage coefficients and linear creep forces.
 
 Source: J. J. Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, Kluwer 1990,
-Table E.3 (physics.md section 4): the coefficients ``c11``, ``c22``, ``c23`` for an elliptic
+Table E.3 (docs/theory.md section 4.2): the coefficients ``c11``, ``c22``, ``c23`` for an elliptic
 contact with semi-axes ``a`` (rolling direction) and ``b`` (lateral), tabulated over ``a/b`` for
 Poisson's ratios ``nu = 0, 0.25, 0.5``.
 
@@ -10,7 +10,7 @@ Linear theory, force **on the wheel** in the contact frame (docs/conventions.md)
     Fx = -G a b c11 xi
     Fy = -G a b c22 eta - G (ab)^(3/2) c23 phi
 
-Interpolation (physics.md section 4): the table is used as a function of ``g = min(a/b, b/a)``
+Interpolation (docs/theory.md section 4.2): the table is used as a function of ``g = min(a/b, b/a)``
 separately in its two halves (``a <= b``: rows ``a/b = 0.1 .. 1``; ``a >= b``: rows
 ``a/b = 1 .. 10``, i.e. ``b/a = 1 .. 0.1``); in each half the nodes are ``g = 0.1, 0.2, .., 1``.
 In ``nu`` the reciprocal ``1/c`` is interpolated by the quadratic Lagrange polynomial through
@@ -103,7 +103,7 @@ def kalker_table_for_poisson(poisson: float) -> np.ndarray:
     """Kalker's table reduced to one Poisson's ratio.
 
     Each coefficient at each ``a/b`` node is ``1 / sum_k L_k(nu) / c(nu_k)`` with the quadratic
-    Lagrange basis ``L_k`` through ``nu_k = 0, 0.25, 0.5`` (physics.md section 4).
+    Lagrange basis ``L_k`` through ``nu_k = 0, 0.25, 0.5`` (docs/theory.md section 4.2).
 
     Args:
         poisson: Poisson's ratio ``nu`` [-], clamped to ``[0, 0.5]``.

@@ -6,7 +6,7 @@ Sources:
   Suppl. 33 (1999) 728-739 ("1999" below);
 * O. Polach, "Creep forces in simulations of traction vehicles running on adhesion limit",
   Wear 258 (2005) 992-1000 ("2005" below);
-* physics.md section 5 (formulas re-derived here, not copied from a port).
+* docs/theory.md sections 4.3 and 4.4 (formulas re-derived here, not copied from a port).
 
 Notation: creepages ``xi`` (longitudinal), ``eta`` (lateral) [-], spin ``phi`` [1/m], normal
 force ``Q`` [N], friction ``mu``, semi-axes ``a`` (rolling direction) and ``b`` [m], shear
@@ -39,7 +39,7 @@ Method (forces first written in the direction of the creepage, then turned onto 
 
 The spin gradient uses ``s_C``, not ``|eta_C|`` (decision)
 ------------------------------------------------------------
-physics.md writes ``eps_S`` with ``|eta_C|``; Polach's paper writes it with ``s_C``. The paper's
+Secondary texts write ``eps_S`` with ``|eta_C|``; Polach's paper writes it with ``s_C``. The paper's
 form is the one that reproduces Kalker's linear spin term, for any ``xi``:
 
 * Simplify ``K_M`` first. With ``delta = (e^2 - 1)/(e^2 + 1)`` one has ``1 - delta = 2/(1 + e^2)``,
@@ -63,7 +63,7 @@ no cancellation for large ``eps_S``. The literal paper formula is checked agains
 ``tests/test_polach.py``. (For pure spin at full sliding ``F_yS -> 0`` like ``1/eps_S^4``: a
 spinning, fully sliding ellipse carries a moment but no net lateral force.)
 
-2005 and spin (a choice, documented because physics.md does not settle it): the reduction
+2005 and spin (railexu's choice, docs/theory.md section 4.4): the reduction
 factors ``k_A``, ``k_S`` act on the creep force of step 4 only; the spin term keeps the 1999
 form, evaluated with the falling friction ``mu(w)``. So the 2005 spin force still tends to
 Kalker's unreduced linear spin term for small creepage.
@@ -122,8 +122,8 @@ class Polach2005Parameters:
             raise ValueError("friction_decay_B_s_per_m must be >= 0")
 
 
-#: Parameter sets quoted in physics.md section 5 from Polach 2005, Table 2 (marked "check"
-#: there: single secondary source): dry and wet rail, measured on a locomotive.
+#: Parameter sets of Polach 2005, Table 2, as quoted by a secondary source (docs/theory.md 4.4;
+#: check against the paper): dry and wet rail, measured on a locomotive.
 POLACH_2005_PRESETS: dict[str, Polach2005Parameters] = {
     "dry": Polach2005Parameters(
         k_a=1.0, k_s=0.4, friction_ratio_A=0.4, friction_decay_B_s_per_m=0.6, mu0=0.55

@@ -21,7 +21,7 @@ from .core import (
 )
 
 # ---------------------------------------------------------------------------------------------
-# S1002 (EN 13715), physics.md section 2.1
+# S1002 (EN 13715), docs/theory.md section 2.2
 # ---------------------------------------------------------------------------------------------
 
 _AA, _BA = 1.364323640, 0.066666667
@@ -107,7 +107,7 @@ def s1002_analytic(s_mm: ArrayLike) -> np.ndarray:
     """The published S1002 definition ``F(s)`` [mm] at ``s`` [mm] (no smoothing), -70..60 mm.
 
     ``s`` from the tape circle, flange at negative ``s``; ``F`` = radius increase. Sections as
-    in physics.md section 2.1 (EN 13715); a point on a section limit takes the section on its
+    in docs/theory.md section 2.2 (EN 13715); a point on a section limit takes the section on its
     positive side. NaN outside [-70, 60].
     """
     s = np.asarray(s_mm, dtype=np.float64)
@@ -207,7 +207,7 @@ def s1002() -> Profile:
 
 
 # ---------------------------------------------------------------------------------------------
-# 60E1 (UIC60) rail head, physics.md section 2.2
+# 60E1 (UIC60) rail head, docs/theory.md section 2.3
 # ---------------------------------------------------------------------------------------------
 
 #: Published arc data of the 60E1 head [mm]: (radius, centre y, centre z) with the top at (0, 0).
