@@ -54,6 +54,11 @@ RUN_SCHEMA = Schema(
               default=0.7, positive=True, maximum=1.0),
         Field("newton_tolerance", "Exudyn's relative Newton tolerance", unit="1",
               default=1.0e-3, minimum=1e-10, maximum=1e-2),
+        Field("evaluate_from", "start of the evaluation window of every statistic (default: "
+              "after the start-up, 20 m or a tenth of the run if less; docs/assessment.md)",
+              unit="m", default=OPTIONAL, minimum=0.0, maximum=200_000.0),
+        Field("evaluate_to", "end of the evaluation window (default: the end of the run)",
+              unit="m", default=OPTIONAL, positive=True, maximum=200_000.0),
     ),
     "Settings of one run (`base.run` of a study; `railexu run` options).",
 )  # fmt: skip
@@ -92,6 +97,8 @@ class RunSettings:
     solver: str = _D("solver")
     spectral_radius: float = _D("spectral_radius")
     newton_relative_tolerance: float = _D("newton_tolerance")
+    evaluate_from_m: float | None = _D("evaluate_from")
+    evaluate_to_m: float | None = _D("evaluate_to")
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
     deceleration_m_per_s2: float = 0.0
@@ -110,6 +117,15 @@ class RunSettings:
             _check("output_interval", self.output_interval_s)
             if self.output_interval_s < self.time_step_s:
                 _fail("output_interval", "must be >= the time step")
+        for key, value in (("evaluate_from", self.evaluate_from_m),
+                           ("evaluate_to", self.evaluate_to_m)):  # fmt: skip
+            if value is not None:
+                _check(key, value)
+        lo, hi = self.evaluate_from_m, self.evaluate_to_m
+        if lo is not None and hi is not None and hi <= lo:
+            _fail("evaluate_to", f"must be beyond evaluate_from ({lo:g} m), got {hi:g} m")
+        if lo is not None and lo >= self.distance_m:
+            _fail("evaluate_from", f"must be within the run's distance ({self.distance_m:g} m)")
         if self.solver not in SOLVERS:
             _fail("solver", f"must be one of {', '.join(SOLVERS)}, got {self.solver!r}")
         if not 0.0 < self.derailment_lift_fraction <= 1.0:
@@ -209,6 +225,8 @@ def run_settings_from_dict(
         solver=values["solver"],
         spectral_radius=values["spectral_radius"],
         newton_relative_tolerance=values["newton_tolerance"],
+        evaluate_from_m=values["evaluate_from"],
+        evaluate_to_m=values["evaluate_to"],
     )
     try:
         return RunSettings(**kwargs)

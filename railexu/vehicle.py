@@ -29,10 +29,12 @@ from .vehicle_schema import (
     AXES,
     BODY,
     CONTACT,
+    DEFAULT_FLOOR_HEIGHT_M,
     ELEMENT_TYPE,
     ELEMENTS,
     FORMAT_VERSION,
     LOAD,
+    MEASUREMENT_POINT,
     VEHICLE,
     WHEELSET,
 )
@@ -43,6 +45,7 @@ __all__ = [
     "Body",
     "BumpStop",
     "Load",
+    "MeasurementPoint",
     "SpringDamper",
     "TorsionSpring",
     "Vehicle",
@@ -164,6 +167,15 @@ SuspensionElement = SpringDamper | TorsionSpring | BumpStop
 
 
 @dataclass(frozen=True)
+class MeasurementPoint:
+    """A point fixed to a body whose accelerations are recorded (vehicle axes, m)."""
+
+    name: str
+    body: str
+    position_m: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
 class Vehicle:
     """A validated vehicle.
 
@@ -182,6 +194,8 @@ class Vehicle:
     speed_body: str
     gravity_m_per_s2: float = VEHICLE.default("gravity")
     sources: tuple[str, ...] = ()
+    category: str = VEHICLE.default("category")
+    measurement_points: tuple[MeasurementPoint, ...] = ()
     source: str = ""
     raw: dict = field(default_factory=dict, repr=False, compare=False)
     lines: dict = field(default_factory=dict, repr=False, compare=False)
@@ -319,6 +333,8 @@ def vehicle_from_dict(
         speed_body=speed_body,
         gravity_m_per_s2=VEHICLE.read(top, "gravity"),
         sources=VEHICLE.read(top, "sources"),
+        category=VEHICLE.read(top, "category"),
+        measurement_points=_measurement_points(top, names, bodies, wheelsets),
         source=source,
         raw=data,
         lines=lines,
@@ -326,6 +342,30 @@ def vehicle_from_dict(
     )
     check_topology(vehicle, top)
     return vehicle
+
+
+def _measurement_points(
+    top: Section, names: list[str], bodies: list[Body], wheelsets: list[Wheelset]
+) -> tuple[MeasurementPoint, ...]:
+    """The named points of the file, or the defaults: on the floor of the first body (the car
+    body) above each bogie (the other bodies' x) and at its centre; none for a vehicle without
+    bodies (a wheelset alone)."""
+    points = []
+    for name, _ in top.items("measurement_points", False):
+        sec = top.child("measurement_points", name, MEASUREMENT_POINT.keys())
+        body = MEASUREMENT_POINT.read(sec, "body")
+        if body not in names:
+            sec.fail(f"unknown body {body!r}.{_did_you_mean(body, names)}", key="body")
+        points.append(MeasurementPoint(str(name), body, MEASUREMENT_POINT.read(sec, "position")))
+    if points or not bodies:
+        return tuple(points)
+    car = bodies[0]
+    x0, z = car.position_m[0], DEFAULT_FLOOR_HEIGHT_M
+    pivots = sorted((b.position_m[0] for b in bodies[1:]), reverse=True) or [
+        w.position_x_m for w in (wheelsets[0], wheelsets[-1])
+    ]
+    defaults = [("body_front", pivots[0]), ("body_centre", x0), ("body_rear", pivots[-1])]
+    return tuple(MeasurementPoint(n, car.name, (x, 0.0, z)) for n, x in defaults)
 
 
 def _body(sec: Section, name: Any) -> Body:

@@ -190,6 +190,26 @@ LOAD = Schema(
     "A constant force on a body at a point, by name under `loads:`.",
 )  # fmt: skip
 
+#: Vehicle categories of EN 14363 (the track-shifting limit's alpha depends on them).
+CATEGORIES = ("locomotive", "coach", "multiple_unit", "wagon")
+
+MEASUREMENT_POINT = Schema(
+    "measurement_point",
+    (
+        Field("body", "the body the point is fixed to", "text"),
+        Field("position", "the point, vehicle axes (on the car body floor for EN 12299)",
+              "vector", "m", **_POS),
+    ),
+    "A point whose lateral and vertical accelerations are recorded (ride comfort, EN 12299); "
+    "by name under `measurement_points:`. Default: on the floor (1.2 m above the rails) of the "
+    "first body, above each bogie pivot (`body_front`, `body_rear`) and at its centre "
+    "(`body_centre`).",
+)  # fmt: skip
+
+#: Height of the default measurement points above the top of the rails [m]: a typical floor
+#: height of locomotives and coaches (EN 12299 measures on the floor).
+DEFAULT_FLOOR_HEIGHT_M = 1.2
+
 VEHICLE = Schema(
     "vehicle",
     (
@@ -197,6 +217,8 @@ VEHICLE = Schema(
               "integer", choices=READ_VERSIONS),
         Field("name", "short name", "text"),
         Field("description", "one paragraph", "text", default=""),
+        Field("category", "EN 14363 category: the track-shifting limit's alpha depends on it",
+              "text", default="locomotive", choices=CATEGORIES),
         Field("sources", "where the data come from", "text_list", default=()),
         Field("speed_body", "body held at the forward speed (default: the first body, or the "
               "first wheelset)", "text", default=OPTIONAL),
@@ -209,6 +231,9 @@ VEHICLE = Schema(
         Field("suspension", "suspension elements, by name; `type:` chooses the kind", "named",
               default={}, models=ELEMENTS, selector="type"),
         Field("loads", "constant external forces, by name", "named", default={}, schema=LOAD),
+        Field("measurement_points", "points whose accelerations are recorded, by name "
+              "(default: the car body floor above each pivot and at the centre)", "named",
+              default={}, schema=MEASUREMENT_POINT),
     ),
     "The top level of a vehicle file.",
 )  # fmt: skip
@@ -224,4 +249,5 @@ DOC_TABLES = (
     ("`wheelsets.NAME`", WHEELSET),
     *((f"`suspension.NAME` with `type: {k}`", s) for k, s in ELEMENTS.items()),
     ("`loads.NAME`", LOAD),
+    ("`measurement_points.NAME`", MEASUREMENT_POINT),
 )

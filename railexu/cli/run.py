@@ -37,6 +37,15 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "--output-interval", type=quantity("s"), help="output interval [s] (default: 5 ms)"
     )
     p.add_argument(
+        "--evaluate-from",
+        type=quantity("m"),
+        help="start of the evaluation window of every statistic [m] (default: after the "
+        "start-up, 20 m or a tenth of the run)",
+    )
+    p.add_argument(
+        "--evaluate-to", type=quantity("m"), help="end of the evaluation window [m] (default: end)"
+    )
+    p.add_argument(
         "--solver",
         default="generalized_alpha",
         choices=("generalized_alpha", "trapezoidal"),
@@ -105,6 +114,8 @@ def command(args: argparse.Namespace) -> int:
             time_step_s=args.step,
             output_interval_s=args.output_interval,
             solver=args.solver,
+            evaluate_from_m=args.evaluate_from,
+            evaluate_to_m=args.evaluate_to,
         )
         if not args.quiet:
             print(
