@@ -55,9 +55,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument(
         "--force-scale",
         type=float,
-        default=0.4,
         metavar="MM_PER_KN",
-        help="arrow length per force in the contact view [mm/kN]",
+        help="arrow length per force in the contact view [mm/kN] (default: the largest "
+        "normal force about 45 mm long)",
     )
     p.add_argument("--trace", action="store_true", help="trace the contact positions")
     p.add_argument("--dpi", type=int, default=80, help="resolution of the frames [dpi]")

@@ -52,7 +52,9 @@ class AnimationSettings:
         playback: simulated seconds per second of animation (0.25: four times slower).
         wheelset: index of the wheelset for the contact view (0: the leading one).
         exaggeration: factor on lateral displacement and yaw in the plan view.
-        force_scale_mm_per_kN: arrow length per force in the contact view [mm/kN].
+        force_scale_mm_per_kN: arrow length per force in the contact view [mm/kN]; None: the
+            largest normal force of the run's wheelset is about 45 mm long (rounded to 1, 2 or 5
+            kN per mm times a power of ten).
         trace: draw the contact positions of the frames shown so far on the profiles.
         dpi: resolution of the frames [dots per inch].
     """
@@ -63,7 +65,7 @@ class AnimationSettings:
     playback: float = 1.0
     wheelset: int = 0
     exaggeration: float = 50.0
-    force_scale_mm_per_kN: float = 0.4
+    force_scale_mm_per_kN: float | None = None
     trace: bool = False
     dpi: int = 80
 
@@ -76,7 +78,7 @@ class AnimationSettings:
             raise InputError(
                 f"exaggeration {self.exaggeration:g}: expected >= 1", key="--exaggeration"
             )
-        if not self.force_scale_mm_per_kN > 0.0:
+        if self.force_scale_mm_per_kN is not None and not self.force_scale_mm_per_kN > 0.0:
             raise InputError("the force scale must be > 0 mm/kN", key="--force-scale")
 
 
@@ -122,7 +124,12 @@ class ContactView:
         self.fig = Figure(figsize=(10, 5.0), dpi=settings.dpi)
         self.axes = self.fig.subplots(1, 2)
         self.fig.subplots_adjust(left=0.07, right=0.98, top=0.78, bottom=0.11, wspace=0.15)
-        self.mm_per_N = settings.force_scale_mm_per_kN / 1e3
+        kN_per_mm = (
+            1.0 / settings.force_scale_mm_per_kN
+            if settings.force_scale_mm_per_kN
+            else nice_kN_per_mm(float(np.max(state.contacts[:, self.ws, :, :, CF["N_N"]])))
+        )
+        self.mm_per_N = 1.0 / kN_per_mm / 1e3
         self.dynamic: list = []
         self.traces: list[list] = [[], []]
         self.prof = state.profiles[int(state.profile_index[self.ws])]
@@ -145,7 +152,7 @@ class ContactView:
         )
         self.fig.suptitle(
             f"{state.meta.get('vehicle', '')}: wheelset {name} (ws{self.ws + 1}), seen from "
-            f"behind. Force on the wheel {1.0 / settings.force_scale_mm_per_kN:.1f} kN/mm: "
+            f"behind. Force on the wheel {kN_per_mm:g} kN per mm: "
             f"blue normal, orange tangential;\ngreen: contact width 2b; {source}",
             fontsize=9,
         )
@@ -223,6 +230,14 @@ class Overlay:
     text: str
     alert: bool = False
     centred: bool = False
+
+
+def nice_kN_per_mm(max_force_N: float, length_mm: float = 45.0) -> float:
+    """A round force scale [kN/mm] (1, 2 or 5 times a power of ten) that draws ``max_force_N``
+    at most ``length_mm`` long."""
+    need = max(max_force_N, 1e3) / 1e3 / length_mm
+    power = 10.0 ** math.floor(math.log10(need))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= need * (1 - 1e-12))
 
 
 def _segments(x, y, dx, dy, centred: bool = False) -> tuple[np.ndarray, np.ndarray]:
