@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 from railexu.cli import main
-from railexu.contact import kernel as K
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.quasistatic import press_wheelset
 from railexu.errors import InputError
