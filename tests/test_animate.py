@@ -156,6 +156,24 @@ def test_contact_ellipse_scales_as_hertz(bogie_run):
     assert sizes[1][1] / sizes[0][1] == pytest.approx(2.0, rel=0.02)
 
 
+def test_state_file_reads_without_the_compiled_kernel():
+    """``railexu animate`` and ``report`` start fast: no numba, no Exudyn on import."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, railexu.report.animate, railexu.report.html_report; "
+        "print(any(m in sys.modules for m in ('numba', 'exudyn')))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
+    from railexu.contact import kernel
+    from railexu.report import state_file
+
+    assert state_file.MAX_POINTS == kernel.MAX_POINTS
+
+
 def test_frame_selection():
     t = np.arange(0.0, 4.0 + 1e-9, 0.005)
     assert len(frame_indices(t, AnimationSettings(fps=20))) == 81  # 4 s at 20 fps

@@ -36,7 +36,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..contact import kernel as K
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -46,7 +45,7 @@ if TYPE_CHECKING:
 STATE_FILE = "state.npz"
 FORMAT_VERSION = 1
 SIDES = ("left", "right")
-MAX_POINTS = K.MAX_POINTS
+MAX_POINTS = 3  # contact points per wheel: railexu.contact.kernel.MAX_POINTS
 
 # fields of a contact point (last axis of RunState.contacts), SI units, track frame
 CONTACT_FIELDS = (
@@ -375,6 +374,8 @@ def track_force(m: float, gamma, normal, tangential_lat):
 def _pose_contacts(state: RunState, model, order: list[int]) -> None:
     """Contact points from each recorded pose with the run's contact kernel; the forces are the
     recorded wheel totals shared in proportion to the normal forces (see the module text)."""
+    from ..contact import kernel as K
+
     raw = _evaluate_poses(state, model, order)
     _K_S, _K_Y, _K_Z, _K_ANGLE = K.PF_S, K.PF_Y, K.PF_Z, K.PF_ANGLE
     _K_N, _K_A, _K_B = K.PF_N, K.PF_A, K.PF_B
@@ -411,6 +412,7 @@ def _pose_contacts(state: RunState, model, order: list[int]) -> None:
 def _evaluate_poses(state: RunState, model, order: list[int]) -> np.ndarray:
     """Kernel points ``(n, n_ws, 2, MAX_POINTS, N_POINT_FIELDS)`` at every recorded pose, the
     rails moved by their irregularities (velocities: rolling at V, no other motion)."""
+    from ..contact import kernel as K
     from ..contact.evaluation import WheelsetContactModel
 
     n = state.time_s.size
