@@ -56,8 +56,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "--force-scale",
         type=float,
         metavar="MM_PER_KN",
-        help="arrow length per force in the contact view [mm/kN] (default: the largest "
-        "normal force about 45 mm long)",
+        help="arrow length per force in the contact view [mm/kN] (default: the normal force "
+        "of 95 %% of the frames at most 45 mm long)",
     )
     p.add_argument("--trace", action="store_true", help="trace the contact positions")
     p.add_argument("--dpi", type=int, default=80, help="resolution of the frames [dpi]")

@@ -53,8 +53,8 @@ class AnimationSettings:
         wheelset: index of the wheelset for the contact view (0: the leading one).
         exaggeration: factor on lateral displacement and yaw in the plan view.
         force_scale_mm_per_kN: arrow length per force in the contact view [mm/kN]; None: the
-            largest normal force of the run's wheelset is about 45 mm long (rounded to 1, 2 or 5
-            kN per mm times a power of ten).
+            wheelset's largest normal force in 95 % of the output times is at most 45 mm long
+            (1, 2 or 5 kN per mm times a power of ten; the rarer impact peaks run off the panel).
         trace: draw the contact positions of the frames shown so far on the profiles.
         dpi: resolution of the frames [dots per inch].
     """
@@ -124,10 +124,11 @@ class ContactView:
         self.fig = Figure(figsize=(10, 5.0), dpi=settings.dpi)
         self.axes = self.fig.subplots(1, 2)
         self.fig.subplots_adjust(left=0.07, right=0.98, top=0.78, bottom=0.11, wspace=0.15)
+        peak = state.contacts[:, self.ws, :, :, CF["N_N"]].max(axis=(1, 2))
         kN_per_mm = (
             1.0 / settings.force_scale_mm_per_kN
             if settings.force_scale_mm_per_kN
-            else nice_kN_per_mm(float(np.max(state.contacts[:, self.ws, :, :, CF["N_N"]])))
+            else nice_kN_per_mm(float(np.percentile(peak, 95.0)))
         )
         self.mm_per_N = 1.0 / kN_per_mm / 1e3
         self.dynamic: list = []
