@@ -230,3 +230,35 @@ def test_console_errors_are_seen(tmp_path):
     bad.write_text("<html><body><script>undefinedFunction();</script></body></html>")
     done = _chromium(bad, tmp_path, "--dump-dom")
     assert any("undefinedFunction" in line for line in _console_errors(done.stderr))
+
+
+def test_assessment_table(run_folder, tmp_path):
+    """The summary's assessment (criteria with value, limit and pass) becomes a table with a
+    verdict per criterion, and the exceeded ones are named."""
+    import json
+
+    from railexu.report.html_report import run_report_html
+
+    folder = tmp_path / "run"
+    shutil.copytree(run_folder, folder)
+    summary = json.loads((folder / "summary.json").read_text())
+    criterion = {"unit": "-", "where": "ws1 right", "distance_m": 40.0, "window": "2 m",
+                 "rule": "EN 14363"}  # fmt: skip
+    summary["assessment"] = {
+        "category": "safety",
+        "exceedances": ["sum_y"],
+        "criteria": {
+            "y_over_q": {"value": 0.5, "limit": 0.8, "pass": True, **criterion},
+            "sum_y": {"value": 9e4, "limit": 7.5e4, "pass": False, **criterion},
+        },
+    }
+    (folder / "summary.json").write_text(json.dumps(summary))
+    text = run_report_html(folder, figures=False)
+    page = _parse(text)
+    assert "y_over_q" in page.cells and "sum_y" in page.cells
+    i = page.cells.index("y_over_q")
+    row = page.cells[i : i + 9]
+    assert row[1] == "0.5" and row[2] == "0.8" and row[-1] == "pass"
+    j = page.cells.index("sum_y")
+    assert page.cells[j + 8] == "fail"
+    assert "exceeded: sum_y" in text

@@ -166,6 +166,9 @@ def run_report_html(folder: str | Path, figures: bool = True) -> str:
     assessment = _assessment_html(summary.get("assessment"))
     if assessment:
         body += ["<h2>Assessment</h2>", assessment]
+    comfort = _comfort_html(summary.get("comfort"))
+    if comfort:
+        body += ["<h2>Ride comfort</h2>", comfort]
     anims = _animations_html(folder)
     if anims:
         body += ["<h2>Animations</h2>", anims]
@@ -233,44 +236,101 @@ def _result_rows(summary: dict) -> list[tuple]:
     if "max_abs_lateral_force_N" in summary:
         rows.append(("max |Y| [kN]", summary["max_abs_lateral_force_N"] / 1e3, "", ""))
     yq = summary.get("max_Y_over_Q") or {}
-    if yq.get("value") is not None:
+    if "pass" in yq and yq.get("value_en14363") is not None:  # the assessment's EN 14363 form
+        rows.append(("max Y/Q (EN 14363) [-]", float(yq["value_en14363"]),
+                     _or_blank(yq.get("limit")), _verdict(bool(yq["pass"]))))  # fmt: skip
+    elif yq.get("value") is not None:
         limit = yq.get("nadal_limit")
-        value = yq.get("value_2m", yq["value"])
+        value = yq.get("value_2m")
         value = yq["value"] if value is None else value
         rows.append(("max Y/Q (2 m mean) [-]", float(value), limit if limit else "",
                      _verdict(value <= limit) if limit else ""))  # fmt: skip
+    if yq.get("nadal_limit") is not None and "pass" in yq:
+        rows.append(("Nadal's flange-climb limit [-]", float(yq["nadal_limit"]), "", ""))
     sy = summary.get("max_sum_Y_N") or {}
     if sy.get("value") is not None:
         limit = sy.get("limit_N")
+        ok = bool(sy["pass"]) if "pass" in sy else (sy["value"] <= limit if limit else None)
         rows.append(("max sum Y (2 m mean) [kN]", sy["value"] / 1e3,
+                     limit / 1e3 if limit else "", "" if ok is None else _verdict(ok)))  # fmt: skip
+    rs = summary.get("running_stability") or {}
+    if rs.get("rms_sum_Y_N") is not None:
+        limit = rs.get("limit_N")
+        rows.append(("running stability, rms sum Y [kN]", rs["rms_sum_Y_N"] / 1e3,
                      limit / 1e3 if limit else "",
-                     _verdict(sy["value"] <= limit) if limit else ""))  # fmt: skip
+                     _verdict(bool(rs["pass"])) if "pass" in rs else ""))  # fmt: skip
     return rows
 
 
+def _or_blank(value: object) -> object:
+    return "" if value is None else value
+
+
+#: the columns of a criterion of the assessment, in this order (the rest are details)
+_CRITERION_KEYS = ("value", "limit", "unit", "where", "distance_m", "window", "rule")
+
+
 def _assessment_html(assessment: object) -> str:
-    """A table of an assessment: a list of criteria (dicts) or a dict of criteria; a
-    ``passed``/``pass``/``ok`` entry becomes the verdict."""
+    """The assessment of a run: its category and exceedances, and a table of its criteria
+    (``{"criteria": {name: {value, limit, pass, unit, where, distance_m, window, rule, ...}}}``;
+    a bare mapping or list of criteria works too), ``pass`` as the verdict."""
     if not assessment:
         return ""
+    head = ""
+    criteria: object = assessment
+    if isinstance(assessment, dict) and "criteria" in assessment:
+        criteria = assessment.get("criteria") or {}
+        parts = []
+        if assessment.get("category"):
+            parts.append(f"category: <b>{_e(assessment['category'])}</b>")
+        exceeded = assessment.get("exceedances") or []
+        parts.append(
+            '<span class="fail">exceeded: ' + _e(", ".join(exceeded)) + "</span>"
+            if exceeded
+            else '<span class="pass">no safety criterion exceeded</span>'
+        )
+        head = "<p>" + "; ".join(parts) + "</p>"
     items = (
         [{"criterion": k, **(v if isinstance(v, dict) else {"value": v})}
-         for k, v in assessment.items()]
-        if isinstance(assessment, dict) else list(assessment)
+         for k, v in criteria.items()]
+        if isinstance(criteria, dict) else [i for i in criteria if isinstance(i, dict)]
     )  # fmt: skip
-    items = [i for i in items if isinstance(i, dict)]
     if not items:
-        return ""
-    keys: list[str] = []
-    for item in items:
-        keys += [k for k in item if k not in keys and k not in ("passed", "pass", "ok")]
+        return head
+    keys = ["criterion"] + [k for k in _CRITERION_KEYS if any(k in i for i in items)]
+    if not any(k in i for i in items for k in _CRITERION_KEYS):
+        keys = list(dict.fromkeys(k for i in items for k in i if k not in _VERDICT_KEYS))
     rows = []
     for item in items:
-        verdict = next((item[k] for k in ("passed", "pass", "ok") if k in item), None)
-        cells = [item.get(k, "") for k in keys]
-        cells = [c if isinstance(c, int | float | str | bool) else json.dumps(c) for c in cells]
-        rows.append((*cells, _verdict(bool(verdict)) if verdict is not None else ""))
-    return _table(rows, (*keys, "verdict"))
+        verdict = next((item[k] for k in _VERDICT_KEYS if k in item), None)
+        cells = [_plain(item.get(k, "")) for k in keys]
+        rows.append((*cells, "" if verdict is None else _verdict(bool(verdict))))
+    return head + _table(rows, (*keys, "verdict"))
+
+
+_VERDICT_KEYS = ("pass", "passed", "ok")
+
+
+def _plain(value: object) -> object:
+    if value is None:
+        return ""
+    return value if isinstance(value, int | float | str | bool) else json.dumps(value)
+
+
+def _comfort_html(comfort: object) -> str:
+    """Ride comfort per measurement point (EN 12299 N_MV, Sperling's Wz), when assessed."""
+    points = (comfort or {}).get("points") if isinstance(comfort, dict) else None
+    if not points:
+        return ""
+    rows = [
+        (name, _plain(p.get("N_MV")), _plain(p.get("sperling_lateral_Wz")),
+         _plain(p.get("sperling_vertical_Wz")))
+        for name, p in points.items() if isinstance(p, dict)
+    ]  # fmt: skip
+    note = comfort.get("note")
+    return _table(rows, ("point", "N_MV", "Wz lateral", "Wz vertical")) + (
+        f"<p>{_e(note)}</p>" if note else ""
+    )
 
 
 def _animations_html(folder: Path) -> str:
