@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from railexu.cli import main
+from railexu.contact import kernel as K
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.quasistatic import press_wheelset
 from railexu.errors import InputError
@@ -32,7 +33,14 @@ from railexu.report.animate import (
     nice_kN_per_mm,
 )
 from railexu.report.run_files import write_run
-from railexu.report.state_file import CF, SIDES, load_state, track_force, wheel_points
+from railexu.report.state_file import (
+    CF,
+    SIDES,
+    contact_point_position,
+    load_state,
+    track_force,
+    wheel_points,
+)
 from railexu.simulation import RunSettings, run
 from railexu.vehicle import load_vehicle
 
@@ -91,13 +99,17 @@ def test_contact_points_are_where_the_kernel_finds_them(bogie_run):
             if not p.loaded:
                 continue
             k = SIDES.index(p.side)
-            y, z = wheel_points(state.profiles[0], k, p.wheel_lateral_m, lat, vert, roll)
-            # lateral: yaw moves the point along the rail; its lateral place changes only in
-            # second order (< 1 um for these yaw angles of a few mrad)
-            assert y == pytest.approx(p.position_m[1], abs=2e-5)
-            # height: the point leads the axle by theta, sin(theta) = -r'(s) tan(yaw), and
-            # lies r (1 - cos theta) higher: < 0.1 mm on a 70 deg flank at 6 mrad yaw
-            assert z == pytest.approx(p.position_m[2], abs=1e-4)
+            y, z = contact_point_position(
+                state.profiles[0], k, p.wheel_lateral_m, lat, vert, roll, yaw
+            )
+            # the file's wheel profile is 2000 samples (0.1 mm apart) interpolated linearly:
+            # F'' h^2 / 8 < 1 um on the flange
+            assert y == pytest.approx(p.position_m[1], abs=2e-6)
+            assert z == pytest.approx(p.position_m[2], abs=2e-6)
+            # the lowest generatrix (the drawn outline) differs from the locus only by the
+            # yaw's second-order terms, r r' psi^2 sideways and r theta^2 / 2 up: < 0.1 mm
+            y0, z0 = wheel_points(state.profiles[0], k, p.wheel_lateral_m, lat, vert, roll)
+            assert y0 == pytest.approx(y, abs=1e-4) and z0 == pytest.approx(z, abs=1e-4)
             checked += 1
     assert checked > 20
 
@@ -273,3 +285,52 @@ def test_mp4(bogie_run, tmp_path):
                           settings=AnimationSettings(end_s=0.5))  # fmt: skip
     head = written["plan"].read_bytes()[:12]
     assert head[4:8] == b"ftyp"
+
+
+def test_recorded_contact_columns_are_used(bogie_run):
+    """A run whose recorder wrote per-point columns (``ws{i}_{side}_p{k}_...``): the state file
+    takes the points from them. Here the columns are the kernel's own points at the recorded
+    poses, so the state's positions and forces must be the kernel's."""
+    import dataclasses
+
+    from railexu.report.state_file import state_from_run
+    from railexu.results import TimeSeries
+
+    result, _ = bogie_run
+    ts = result.timeseries
+    model = result.model
+    cm = WheelsetContactModel(model.geometries[0], model.contact_params, 45.0)
+    n = len(ts)
+    columns = dict(ts.columns)
+    kernel = np.zeros((n, 2, 2, K.MAX_POINTS, K.N_POINT_FIELDS))
+    for i in range(2):
+        for f in range(n):
+            pose = [ts[f"ws{i + 1}_{k}"][f] for k in ("lateral_m", "vertical_m", "roll_rad")]
+            cm.evaluate(*pose, ts[f"ws{i + 1}_yaw_rad"][f])
+            kernel[f, i] = cm._points
+        for k, side in enumerate(SIDES):
+            for p in range(K.MAX_POINTS):
+                stem = f"ws{i + 1}_{side}_p{p + 1}_"
+                row = kernel[:, i, k, p]
+                columns[stem + "wheel_y_m"] = row[:, K.PF_S]
+                columns[stem + "angle_rad"] = row[:, K.PF_ANGLE]
+                columns[stem + "N_N"] = row[:, K.PF_N]
+                columns[stem + "Fx_N"] = row[:, K.PF_FX]
+                columns[stem + "Fy_N"] = row[:, K.PF_FY]
+    recorded = dataclasses.replace(result, timeseries=TimeSeries(columns))
+    state = state_from_run(recorded)
+    assert state.contact_source == "recorded"
+    c = state.contacts
+    on = kernel[..., K.PF_N] > 0
+    assert np.array_equal(c[..., CF["active"]] > 0, on)
+    np.testing.assert_allclose(c[..., CF["N_N"]][on], kernel[..., K.PF_N][on])
+    # positions from the wheel coordinate and the pose on the contact locus: the kernel's, to
+    # the sampling of the profile (see test_contact_points_are_where_the_kernel_finds_them)
+    np.testing.assert_allclose(c[..., CF["y_m"]][on], kernel[..., K.PF_Y][on], atol=2e-6)
+    np.testing.assert_allclose(c[..., CF["z_m"]][on], kernel[..., K.PF_Z][on], atol=2e-6)
+    # track-frame forces from (N, Fy, angle): the kernel's, to rounding
+    for field, src in (("FY_N", K.PF_FTY), ("FZ_N", K.PF_FTZ)):
+        np.testing.assert_allclose(c[..., CF[field]][on], kernel[..., src][on], rtol=1e-9,
+                                   atol=1e-6)  # fmt: skip
+    # the ellipse (not recorded) is the pose's at the same load: the kernel's own
+    np.testing.assert_allclose(c[..., CF["b_m"]][on], kernel[..., K.PF_B][on], rtol=1e-6)

@@ -145,6 +145,32 @@ def wheel_points(
     return lateral_m + c * py - sn * pz, vertical_m + sn * py + c * pz
 
 
+def contact_point_position(
+    prof: ProfileCurves, side: int, s_m, lateral_m, vertical_m, roll_rad, yaw_rad
+) -> tuple[np.ndarray, np.ndarray]:
+    """Track-frame ``(y, z)`` of the contact point at ``s_m`` on one wheel, on the contact locus
+    of the kernel (``railexu.contact.kernel``, step a): on a yawed wheelset the point of the
+    circle at ``s`` whose normal can meet a straight rail's lies at the angle ``theta`` from the
+    bottom with ``sin(theta) = -r'(s) tan(psi)``, which moves it ahead of or behind the axle and,
+    on a steep flange, by up to a tenth of a millimetre sideways and up (``r r' psi^2``).
+
+    In the left-type frame of the wheel (the right wheel mirrored: ``y``, roll and yaw change
+    sign) the point is ``R_x(phi) R_z(psi) (r sin(theta), e + s, -r cos(theta))`` from the
+    wheelset centre (``docs/conventions.md``).
+    """
+    m = 1.0 if side == 0 else -1.0
+    s = np.asarray(s_m, dtype=float)
+    radius = prof.nominal_radius_m + np.interp(s, prof.wheel_s_m, prof.wheel_F_m)
+    slope = np.interp(s, prof.wheel_s_m, np.gradient(prof.wheel_F_m, prof.wheel_s_m))
+    psi, phi = m * np.asarray(yaw_rad), m * np.asarray(roll_rad)
+    theta = np.arcsin(np.clip(-slope * np.tan(psi), -1.0, 1.0))
+    px, py, pz = radius * np.sin(theta), prof.tape_circle_lateral_m + s, -radius * np.cos(theta)
+    qy = np.sin(psi) * px + np.cos(psi) * py
+    y = np.cos(phi) * qy - np.sin(phi) * pz
+    z = np.sin(phi) * qy + np.cos(phi) * pz
+    return lateral_m + m * y, vertical_m + z
+
+
 # ----------------------------------------------------------------------------------------------
 # building the state of a finished run
 # ----------------------------------------------------------------------------------------------
@@ -196,7 +222,7 @@ def state_from_run(result: RunResult) -> RunState:
         profiles=profiles,
         profile_index=index,
         rail_offsets_m=offsets,
-        contacts=np.zeros((n, n_ws, 2, MAX_POINTS, len(CONTACT_FIELDS)), dtype=np.float32),
+        contacts=np.zeros((n, n_ws, 2, MAX_POINTS, len(CONTACT_FIELDS))),
         meta=_meta(result),
     )
     for j, b in enumerate(vehicle.bodies):
@@ -225,7 +251,7 @@ def _profiles(model, order: list[int]) -> tuple[list[ProfileCurves], np.ndarray]
         if key not in seen:
             pair = geom.left
             wheel = pair.wheel
-            s = np.linspace(wheel.y_min, wheel.y_max, 600)
+            s = np.linspace(wheel.y_min, wheel.y_max, 2000)
             seen[key] = len(profiles)
             profiles.append(
                 ProfileCurves(
@@ -319,7 +345,7 @@ def _recorded_contacts(state: RunState, ts: TimeSeries) -> None:
     c[...] = 0.0
     for i in range(state.n_wheelsets):
         prof = state.profiles[int(state.profile_index[i])]
-        lat, vert, roll = (state.wheelset_pose[:, i, k] for k in range(3))
+        lat, vert, roll, yaw = (state.wheelset_pose[:, i, k] for k in range(4))
         for k, side in enumerate(SIDES):
             m = 1.0 if k == 0 else -1.0
             for p in range(MAX_POINTS):
@@ -330,7 +356,7 @@ def _recorded_contacts(state: RunState, ts: TimeSeries) -> None:
                 s = _col(ts, stem + "wheel_y_m", n)
                 gamma = _col(ts, stem + "angle_rad", n)
                 fx, fy = _col(ts, stem + "Fx_N", n), _col(ts, stem + "Fy_N", n)
-                y, z = wheel_points(prof, k, s, lat, vert, roll)
+                y, z = contact_point_position(prof, k, s, lat, vert, roll, yaw)
                 row = c[:, i, k, p]
                 row[:, CF["active"]] = normal > 0.0
                 row[:, CF["wheel_s_m"]] = s
@@ -553,17 +579,17 @@ def load_state(path: str | Path) -> RunState:
 
 def complete_contacts(state: RunState) -> None:
     """Fill the derived contact fields: the point's place in the cross-section from its
-    position on the wheel profile and the pose (:func:`wheel_points`), and the track-frame
+    position on the wheel profile and the pose (:func:`contact_point_position`), and the track-frame
     force from the normal and lateral tangential forces (:func:`track_force`)."""
     c = state.contacts
     for i in range(state.n_wheelsets):
         prof = state.profiles[int(state.profile_index[i])]
-        lat, vert, roll = (state.wheelset_pose[:, i, k][:, None] for k in range(3))
+        lat, vert, roll, yaw = (state.wheelset_pose[:, i, k][:, None] for k in range(4))
         for k in range(2):
             m = 1.0 if k == 0 else -1.0
             w = c[:, i, k]
-            w[..., CF["y_m"]], w[..., CF["z_m"]] = wheel_points(
-                prof, k, w[..., CF["wheel_s_m"]], lat, vert, roll
+            w[..., CF["y_m"]], w[..., CF["z_m"]] = contact_point_position(
+                prof, k, w[..., CF["wheel_s_m"]], lat, vert, roll, yaw
             )
             w[..., CF["FY_N"]], w[..., CF["FZ_N"]] = track_force(
                 m, w[..., CF["angle_rad"]], w[..., CF["N_N"]], w[..., CF["Fy_N"]]
