@@ -334,3 +334,42 @@ def test_recorded_contact_columns_are_used(bogie_run):
                                    atol=1e-6)  # fmt: skip
     # the ellipse (not recorded) is the pose's at the same load: the kernel's own
     np.testing.assert_allclose(c[..., CF["b_m"]][on], kernel[..., K.PF_B][on], rtol=1e-6)
+
+
+def test_curved_alignment_and_elastic_rails_reach_the_state(bogie_run):
+    """A track with a curved design alignment gives the state its centre line; an elastic
+    track's rail deflections move the rails of the contact view."""
+    import dataclasses
+
+    from railexu.report.state_file import state_from_run
+    from railexu.results import TimeSeries
+
+    class Arc:  # a 500 m curve to the left from s = 0: the interface of railexu's alignment
+        is_straight = False
+
+        def position(self, s):
+            s = np.asarray(s, dtype=float)
+            return 500.0 * np.sin(s / 500.0), 500.0 * (1.0 - np.cos(s / 500.0))
+
+        def heading(self, s):
+            return np.asarray(s, dtype=float) / 500.0
+
+    result, _ = bogie_run
+    ts = result.timeseries
+    columns = dict(ts.columns)
+    columns["ws1_left_rail_vertical_m"] = np.full(len(ts), -0.001)  # 1 mm down
+    track = dataclasses.replace(result.track)
+    object.__setattr__(track, "alignment", Arc())
+    state = state_from_run(dataclasses.replace(result, timeseries=TimeSeries(columns), track=track))
+    assert state.meta["elastic_rails"] is True
+    np.testing.assert_allclose(state.rail_offsets_m[:, 0, 1], -0.001)
+    np.testing.assert_allclose(state.rail_offsets_m[:, 1, 1], 0.0)
+    _, rz = state.rail_outline(0, 0, "left")
+    assert rz.max() == pytest.approx(-0.001, abs=1e-9)  # the top of the rail, 1 mm lower
+    # the centre line as sampled: heading s / R along the arc
+    line = TrackCentreLine(state.track_x_m, state.track_y_m, state.track_heading_rad)
+    s = 40.0 - state.meta["track_centre_s0_m"]
+    assert line.at(s)[2] == pytest.approx(40.0 / 500.0, rel=1e-4)
+    view = PlanView(state, AnimationSettings())
+    assert view.line.x.size == state.track_x_m.size
+    view.update(len(ts) - 1)

@@ -134,6 +134,8 @@ class ContactView:
         self.dynamic: list = []
         self.traces: list[list] = [[], []]
         self.prof = state.profiles[int(state.profile_index[self.ws])]
+        # rails displaced by irregularities or an elastic track: their offsets as text too
+        self.rails_move = bool(np.any(state.rail_offsets_m[:, self.ws] != 0.0))
         for k, ax in enumerate(self.axes):
             # seen from behind: the left rail (y > 0) on the left, so the axis shows -y
             centre = (1.0 if k == 0 else -1.0) * (self.prof.tape_circle_lateral_m - 0.015)
@@ -211,6 +213,9 @@ class ContactView:
             flange = bool(np.any(gamma > FLANGE_ANGLE_RAD))
             ratio = f"{Y / Q:+.2f}" if Q > 1.0 else "  -"
             lines = f"Y {Y / 1e3:+6.1f} kN\nQ {Q / 1e3:6.1f} kN\nY/Q {ratio}"
+            if self.rails_move:
+                dy, dz = st.rail_offsets_m[f, ws, 2 * k : 2 * k + 2] * MM
+                lines += f"\nrail {dy:+5.2f} {dz:+5.2f} mm"
             x0 = self.axes[k].get_position().x0 + 0.01
             texts.append(Overlay(x0, 0.76, lines + ("\nFLANGE" if flange else ""), flange))
         lat, _, _, yaw = st.wheelset_pose[f, ws]
@@ -306,6 +311,11 @@ class PlanView:
             centre_line = TrackCentreLine(state.track_x_m, state.track_y_m,
                                           state.track_heading_rad)  # fmt: skip
         self.line = centre_line or TrackCentreLine.straight(-1e4, 1e5)
+        # the centre line's distance 0 lies at track position s_line0; the vehicle's origin at
+        # the start at track position s0 (both 0 unless the state file says otherwise)
+        self.s0 = float(state.meta.get("track_s0_m", 0.0)) - float(
+            state.meta.get("track_centre_s0_m", 0.0) if centre_line is None else 0.0
+        )
         xs = np.r_[state.wheelset_x_m, state.body_x_m]
         self.half_span = 0.5 * float(np.ptp(xs)) + 3.0
         self.x_mid = 0.5 * (float(np.max(xs)) + float(np.min(xs)))
@@ -367,7 +377,7 @@ class PlanView:
 
     def update(self, f: int) -> None:
         st = self.state
-        s_ref = float(st.distance_m[f]) + self.x_mid
+        s_ref = self.s0 + float(st.distance_m[f]) + self.x_mid
         s = s_ref + np.linspace(-self.half_span - 2, self.half_span + 2, 60)
         x, y, h = self.line.at(s)
         rails_x, rails_y = [], []
@@ -390,12 +400,12 @@ class PlanView:
         )
         for j, patch in enumerate(self.bodies):
             length, width = st.body_size_m[j]
-            s_body = float(st.distance_m[f]) + st.body_x_m[j]
+            s_body = self.s0 + float(st.distance_m[f]) + st.body_x_m[j]
             lat, yaw = st.body_lateral_m[f, j], st.body_yaw_rad[f, j]
             patch.set_xy(self._place(s_ref, s_body, lat, yaw, length, width))
         for i in range(st.n_wheelsets):
             lat, _, _, yaw = st.wheelset_pose[f, i]
-            s_ws = float(st.distance_m[f]) + st.wheelset_x_m[i]
+            s_ws = self.s0 + float(st.distance_m[f]) + st.wheelset_x_m[i]
             axle = self._place(s_ref, s_ws, lat, yaw, 0.05, 1.5)
             self.axles[i].set_data(
                 [0.5 * (axle[0, 0] + axle[3, 0]), 0.5 * (axle[1, 0] + axle[2, 0])],

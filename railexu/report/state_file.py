@@ -206,6 +206,7 @@ def state_from_run(result: RunResult) -> RunState:
     profiles, index = _profiles(model, order)
     ws_track_x = model.x_start_m + ws_x[None, :] + ts["distance_m"][:, None]
     offsets = _rail_offsets(model, ws_track_x)
+    elastic = _add_rail_deflections(offsets, ts)
     state = RunState(
         time_s=t.copy(),
         distance_m=ts["distance_m"].copy(),
@@ -223,8 +224,9 @@ def state_from_run(result: RunResult) -> RunState:
         profile_index=index,
         rail_offsets_m=offsets,
         contacts=np.zeros((n, n_ws, 2, MAX_POINTS, len(CONTACT_FIELDS))),
-        meta=_meta(result),
+        meta={**_meta(result), "elastic_rails": elastic, "track_s0_m": float(model.x_start_m)},
     )
+    _centre_line(state, result.track, float(ws_track_x.min()), float(ws_track_x.max()))
     for j, b in enumerate(vehicle.bodies):
         state.body_lateral_m[:, j] = _col(ts, f"{b.name}_lateral_m", n)
     _body_yaw(state, ts, vehicle)
@@ -277,6 +279,35 @@ def _rail_offsets(model, x_m: np.ndarray) -> np.ndarray:
     for c in range(4):
         out[..., c] = np.interp(x_m, grid, values[:, c], left=0.0, right=0.0)
     return out
+
+
+def _add_rail_deflections(offsets: np.ndarray, ts: TimeSeries) -> bool:
+    """Add the deflections of an elastic track's rails under each wheelset (the recorder's
+    ``ws{i}_{side}_rail_lateral_m``, ``_rail_vertical_m``) to the rail offsets; True if the run
+    recorded them."""
+    found = False
+    for i in range(offsets.shape[1]):
+        for k, side in enumerate(SIDES):
+            for c, what in enumerate(("lateral", "vertical")):
+                name = f"ws{i + 1}_{side}_rail_{what}_m"
+                if name in ts:
+                    offsets[:, i, 2 * k + c] += ts[name]
+                    found = True
+    return found
+
+
+def _centre_line(state: RunState, track, s_min: float, s_max: float) -> None:
+    """The track centre line under the run (x, y, heading every 0.5 m) when the track has a
+    curved design alignment (``track.alignment`` with ``position(s)`` and ``heading(s)``)."""
+    alignment = getattr(track, "alignment", None)
+    if alignment is None or getattr(alignment, "is_straight", True):
+        return
+    s = np.arange(min(0.0, s_min - 30.0), s_max + 30.0, 0.5)
+    x, y = alignment.position(s)
+    state.track_x_m = np.asarray(x, dtype=float)
+    state.track_y_m = np.asarray(y, dtype=float)
+    state.track_heading_rad = np.asarray(alignment.heading(s), dtype=float)
+    state.meta["track_centre_s0_m"] = float(s[0])
 
 
 def _meta(result: RunResult) -> dict:
