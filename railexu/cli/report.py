@@ -33,7 +33,7 @@ def command(args: argparse.Namespace) -> int:
     from ..report.html_report import write_report
 
     t0 = time.perf_counter()
-    progress = None if args.quiet else progress_line("case reports")
+    progress = None if args.quiet else progress_line("case reports", unit="case")
     written = write_report(args.folder, cases=not args.no_cases, progress=progress)
     print(f"railexu report: wrote {written[-1]}" + (
         f" and {len(written) - 1} case reports" if len(written) > 1 else ""

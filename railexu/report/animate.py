@@ -485,7 +485,7 @@ class _Blitter:
         return self._font
 
 
-def progress_line(label: str, stream=sys.stderr) -> Callable[[int, int], None]:
+def progress_line(label: str, stream=sys.stderr, unit: str = "frame") -> Callable[[int, int], None]:
     """A progress callback ``(done, total)`` writing one updating line."""
     t0 = time.perf_counter()
     state = {"last": -1.0}
@@ -496,7 +496,7 @@ def progress_line(label: str, stream=sys.stderr) -> Callable[[int, int], None]:
             return
         state["last"] = now
         end = "\n" if done >= total else ""
-        stream.write(f"\r  {label}: frame {done:4d} / {total}   {now - t0:5.1f} s{end}")
+        stream.write(f"\r  {label}: {unit} {done:4d} / {total}   {now - t0:5.1f} s{end}")
         stream.flush()
 
     return report

@@ -43,7 +43,7 @@ th{background:#f0f3f7}td.num{text-align:right;font-variant-numeric:tabular-nums}
 .status{display:inline-block;padding:.1em .6em;border-radius:.3em;color:#fff}
 .completed{background:#17692b}.derailed,.diverged,.failed,.interrupted{background:#b00020}
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}
-figcaption{font-size:.9em;color:#555}code{font-size:.9em}
+figcaption{font-size:.9em;color:#555}code{font-size:.9em}.foot{color:#777;font-size:.85em}
 table.sortable th{cursor:pointer}table.sortable th:after{content:" \\2195";color:#999}
 """
 
@@ -120,6 +120,13 @@ def _verdict(ok: bool) -> Raw:
 
 
 def _page(title: str, body: list[str]) -> str:
+    import datetime
+
+    from ..version import __version__
+
+    when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    body = [*body, f'<p class="foot">Written {when} by railexu {_e(__version__)} '
+            "(railexu report).</p>"]  # fmt: skip
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         f"<title>{_e(title)}</title><link rel=\"icon\" href=\"data:,\">"
@@ -449,7 +456,6 @@ def write_report(folder: str | Path, cases: bool = True, progress=None) -> list[
         InputError: the folder holds neither a run's nor a study's output.
     """
     from .animate import add_to_manifest
-    from .folder import atomic_path
 
     folder = Path(folder)
     written: list[Path] = []
@@ -472,8 +478,7 @@ def write_report(folder: str | Path, cases: bool = True, progress=None) -> list[
         )
     path = _write(folder, run_report_html(folder))
     add_to_manifest(folder, [REPORT_FILE])
-    del atomic_path
-    return [*written, path]
+    return [path]
 
 
 def _write(folder: Path, text: str) -> Path:
