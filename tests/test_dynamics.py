@@ -156,7 +156,7 @@ def test_derailment_stops_the_run_and_keeps_results(tmp_path):
     assert "right wheel rose" in result.status["reason"]
     assert 0.0 < result.status["distance_m"] < 30.0
     written = write_run(result, tmp_path, plots=False)
-    assert {p.name for p in written} == {"timeseries.csv", "summary.json"}
+    assert {p.name for p in written} == {"timeseries.csv", "summary.json", "state.npz"}
     ts = result.timeseries
     assert ts.distance_m[-1] == pytest.approx(result.status["distance_m"], abs=0.1)
     assert result.summary["status"]["state"] == "derailed"

@@ -18,7 +18,7 @@ import traceback
 from collections.abc import Sequence
 
 from ..errors import ComputationError, InputError
-from . import contact, creep, critical_speed, listing, plot, run, study
+from . import animate, contact, creep, critical_speed, listing, plot, report, run, study
 from .common import (
     EXIT_BUG,
     EXIT_CODES_HELP,
@@ -31,7 +31,7 @@ from .common import CliError as CliError
 from .common import parse_range as parse_range
 from .run import format_summary as format_summary
 
-COMMANDS = (run, contact, creep, critical_speed, study, plot, listing)
+COMMANDS = (run, contact, creep, critical_speed, study, plot, animate, report, listing)
 ISSUES_URL = "https://github.com/railexu/railexu/issues"
 
 

@@ -18,7 +18,8 @@ def write_run(
     plots: bool = True,
     formats: tuple[str, ...] = ("png",),
 ) -> list[Path]:
-    """Write ``timeseries.csv``, ``summary.json`` and the figures of a run into ``out_dir``.
+    """Write ``timeseries.csv``, ``summary.json``, ``state.npz`` and the figures of a run into
+    ``out_dir``.
 
     Each file is written under a temporary name and renamed into place; the files of an older
     run in the same folder that this run does not write again (figures of another format, a
@@ -48,6 +49,11 @@ def _write_into(
     path = folder.file("summary.json")
     with atomic_path(path) as tmp:
         write_summary(result.summary, tmp)
+    if result.model is not None:  # the state the animations read (railexu animate)
+        from .state_file import STATE_FILE, write_state
+
+        with atomic_path(folder.file(STATE_FILE)) as tmp:
+            write_state(result, tmp)
     if plots:
         from .figures import save_figure
         from .run_figures import run_figures
