@@ -62,13 +62,15 @@ def find_input(kind: str, name_or_path: str | Path) -> Path:
     not looked up by name.
     """
     path = Path(name_or_path)
-    if path.exists():
-        if path.is_dir():
-            raise InputError(f"{path} is a folder; a {kind} file was expected")
-        return path
     text = str(name_or_path)
-    if path.suffix or "/" in text or "\\" in text:
+    looks_like_path = bool(path.suffix) or "/" in text or "\\" in text
+    if path.is_file():
+        return path
+    if path.is_dir() and (looks_like_path or not (_folder(kind) / f"{text}.yaml").is_file()):
+        raise InputError(f"{path} is a folder; a {kind} file was expected")
+    if looks_like_path:
         raise InputError("file not found", source=text)
+    # a bare name: the shipped file, also when a folder of that name is here (`--out eu07`)
     return shipped_path(kind, text)
 
 

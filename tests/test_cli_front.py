@@ -240,3 +240,12 @@ def test_python_dash_m_runs_the_command():
         [sys.executable, "-m", "railexu.cli", "--version"], capture_output=True, text=True
     )
     assert done.returncode == 0 and done.stdout.startswith("railexu ")
+
+
+def test_an_output_folder_named_like_the_vehicle_does_not_hide_it(tmp_path):
+    """`railexu run wheelset --out wheelset` in an empty folder, twice (the second time the
+    folder `wheelset` exists)."""
+    for _ in range(2):
+        done = run_cli(["run", "wheelset", "--out", "wheelset", *SHORT_RUN], cwd=tmp_path)
+        assert done.returncode == 0, done.stderr
+    assert (tmp_path / "wheelset" / "summary.json").is_file()

@@ -97,12 +97,15 @@ def command(args: argparse.Namespace) -> int:
     from ..vehicle import load_vehicle
 
     formats = plot_formats(args.plots, args.no_plots)
+    # names are looked up before the output folder exists (`railexu run eu07 --out eu07`)
+    vehicle_file = find_input("vehicle", args.vehicle)
+    track_file = find_input("track", args.track) if args.track else None
     folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
     try:
         vehicle_set, track_set = split_overrides(args.set)
-        vehicle = load_vehicle(find_input("vehicle", args.vehicle), vehicle_set)
-        if args.track:
-            track = load_track(find_input("track", args.track), track_set)
+        vehicle = load_vehicle(vehicle_file, vehicle_set)
+        if track_file is not None:
+            track = load_track(track_file, track_set)
         elif track_set:
             raise CliError("--set track.KEY=VALUE needs a --track file")
         else:
