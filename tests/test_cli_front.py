@@ -39,6 +39,8 @@ def run_cli(args: list[str], cwd: Path | None = None) -> subprocess.CompletedPro
         ("108 km/h", "m/s", 30.0),  # 108 / 3.6
         ("108km/h", "m/s", 30.0),
         ("30", "m/s", 30.0),  # a bare number is SI
+        ("82e9", "Pa", 82e9),  # an exponent is not a unit
+        ("1.5E-3", "m", 1.5e-3),
         ("2km", "m", 2000.0),
         ("2 mm", "m", 0.002),
         ("-2 mm", "m", -0.002),

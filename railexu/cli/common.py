@@ -47,6 +47,14 @@ def quantity(unit: str) -> Callable[[str], float]:
     from ..units import UnitError, to_si
 
     def parse(text: str) -> float:
+        try:
+            value = float(text)  # a bare number (82e9, -0.002): SI
+        except ValueError:
+            value = None
+        if value is not None:
+            if not np.isfinite(value):
+                raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
+            return value
         spaced = re.sub(r"^([-+]?[\d.]+(?:[eE][-+]?\d+)?)(?=[A-Za-z])", r"\1 ", text.strip())
         try:
             value = to_si(spaced, unit)
