@@ -25,6 +25,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .alignment import Alignment, alignment_from_dict
 from .contact.placement import PlacementError, parse_inclination
 from .inputs import InputError, Section, load_yaml_with_overrides, resolve_file
 from .irregularities import (
@@ -93,6 +94,8 @@ class Track:
     irregularity: IrregularitySpec = field(default_factory=IrregularitySpec)
     description: str = ""
     source: str = ""
+    # design geometry (railexu.alignment); None: straight track
+    alignment: Alignment | None = field(default=None, compare=False)
 
     @property
     def inclination_rad(self) -> float:
@@ -157,8 +160,8 @@ def track_from_dict(
     except PlacementError as exc:
         top.fail(str(exc), key="inclination")
     gauge = top.quantity("gauge", "m", default=1.435, minimum=1.0, maximum=2.0)
-    geometry = top.section("geometry", ("type",), required=False)
-    geometry_type = geometry.string("type", default="straight", choices=("straight",))
+    alignment = alignment_from_dict(top.data.get("geometry"), source, lines, base_dir)
+    geometry_type = "straight" if alignment.is_straight else "sections"
     irr = top.section("irregularities", None, required=False)
     kind = irr.string("type", default="none", choices=tuple(IRREGULARITY_KEYS))
     irr = top.section("irregularities", IRREGULARITY_KEYS[kind], required=False)
@@ -217,4 +220,5 @@ def track_from_dict(
         irregularity=spec,
         description=top.string("description", default=""),
         source=source,
+        alignment=alignment,
     )
