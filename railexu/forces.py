@@ -62,7 +62,8 @@ FR_S = 0  # distance of the vehicle frame's origin along the track [m]
 FR_V = 1  # its speed [m/s]
 FR_VDOT = 2  # its acceleration [m/s^2]
 FR_HALF_BASE = 3  # half the cant base [m] (rails' lateral position for the cant rate)
-FR_SIZE = 4
+FR_G = 4  # gravity [m/s^2]
+FR_SIZE = 5
 #: Columns of :attr:`KernelData.ws_local` (written by every evaluation, track-relative pose).
 WL_S = 0  # distance along the track of the wheelset centre's foot point [m]
 WL_LATERAL = 1  # lateral displacement from the centre line, in the track plane [m]
@@ -72,7 +73,8 @@ WL_YAW = 4  # yaw relative to the local track direction (angle of attack) [rad]
 WL_CURVATURE = 5  # track curvature at the wheelset [1/m]
 WL_CANT = 6  # cant angle of the track at the wheelset [rad]
 WL_DPSI = 7  # track heading at the wheelset relative to the vehicle frame [rad]
-WL_SIZE = 8
+WL_FRAME_ROLL = 8  # cant roll of the vehicle frame [rad]
+WL_SIZE = 9
 
 
 class KernelData(NamedTuple):
@@ -158,8 +160,9 @@ def _irregularity(x, start, step, values, slopes, out, speed):
 @numba.njit(inline="always", **_JIT)
 def _align_at(d, s):
     """Design geometry at distance ``s``: (x, y, heading, curvature, cant angle, d curvature/ds,
-    d cant angle/ds); plan position and heading cubic Hermite (their derivatives are the
-    heading's direction and the curvature), the rest linear between samples."""
+    d cant angle/ds, d^2 cant angle/ds^2); plan position and heading cubic Hermite (their
+    derivatives are the heading's direction and the curvature), the rest linear between
+    samples (the second derivative of the cant: the slope of the linear first derivative)."""
     tab = d.align
     n = tab.shape[0]
     h = d.align_step
@@ -190,24 +193,67 @@ def _align_at(d, s):
     cant = a * tab[i, TAB_CANT] + t * tab[i + 1, TAB_CANT]
     dkappa = a * tab[i, TAB_DKAPPA] + t * tab[i + 1, TAB_DKAPPA]
     dcant = a * tab[i, TAB_DCANT] + t * tab[i + 1, TAB_DCANT]
-    return x, y, psi, kappa, cant, dkappa, dcant
+    ddcant = (tab[i + 1, TAB_DCANT] - tab[i, TAB_DCANT]) / h
+    return x, y, psi, kappa, cant, dkappa, dcant, ddcant
 
 
 @numba.njit(**_JIT)
-def track_position(d, rx, ry):
-    """Foot point on the centre line of a point at ``(rx, ry)`` in the vehicle frame
-    (longitudinal offset from the frame's origin, lateral): ``(s, lateral offset, heading
-    relative to the frame)``. Newton's method on the along-track distance (2-3 iterations)."""
+def frame_motion(d, out):
+    """Motion of the vehicle frame into ``out`` (12 entries): heading, cant roll, angular
+    velocity (3) and acceleration (3) in frame axes, the origin's acceleration in frame axes
+    (y, z) and gravity in frame axes (y, z).
+
+    The frame's origin runs along the centre line at the top of rail at speed ``V``; its
+    orientation is ``Rz(psi(s_F)) Rx(phi(s_F))``: the track's heading and cant roll there, so
+    that the suspension elements, which act along the frame's axes, act along the canted track
+    axes as on straight track.
+    """
     s_f = d.frame[FR_S]
-    xf, yf, psif, _, _, _, _ = _align_at(d, s_f)
+    v = d.frame[FR_V]
+    vd = d.frame[FR_VDOT]
+    _, _, psi, kappa, phi, dkappa, dphi, ddphi = _align_at(d, s_f)
+    cp, sp = math.cos(phi), math.sin(phi)
+    psi_d = v * kappa
+    psi_dd = vd * kappa + v * v * dkappa
+    phi_d = v * dphi
+    phi_dd = vd * dphi + v * v * ddphi
+    out[0] = psi
+    out[1] = phi
+    # Omega = phi_d e_x + psi_d Rx(phi)^T e_z
+    out[2] = phi_d
+    out[3] = psi_d * sp
+    out[4] = psi_d * cp
+    out[5] = phi_dd
+    out[6] = psi_dd * sp + psi_d * phi_d * cp
+    out[7] = psi_dd * cp - psi_d * phi_d * sp
+    # origin acceleration (V', V^2 kappa, 0) horizontal -> frame axes (x component cancels)
+    out[8] = cp * v * psi_d
+    out[9] = -sp * v * psi_d
+    # gravity (0, 0, -g) -> frame axes, minus the (0, 0, -g) Exudyn already applies
+    g = d.frame[FR_G]
+    out[10] = -g * sp
+    out[11] = g * (1.0 - cp)
+
+
+@numba.njit(**_JIT)
+def track_position(d, rx, ry, rz):
+    """Foot point on the centre line of a point at ``(rx, ry, rz)`` in the vehicle frame
+    (offset from the frame's origin): ``(s, lateral offset, height, heading relative to the
+    frame)``, lateral offset and height in the horizontal plane of the foot point. Newton's
+    method on the along-track distance (2-3 iterations)."""
+    s_f = d.frame[FR_S]
+    xf, yf, psif, _, phif, _, _, _ = _align_at(d, s_f)
+    cx, sx = math.cos(phif), math.sin(phif)
+    yh = cx * ry - sx * rz
+    zh = sx * ry + cx * rz
     cf, sf = math.cos(psif), math.sin(psif)
-    px = xf + cf * rx - sf * ry
-    py = yf + sf * rx + cf * ry
+    px = xf + cf * rx - sf * yh
+    py = yf + sf * rx + cf * yh
     s = s_f + rx
-    lateral = ry
+    lateral = yh
     psi = psif
     for _ in range(4):
-        xs, ys, psi, kappa, _, _, _ = _align_at(d, s)
+        xs, ys, psi, kappa, _, _, _, _ = _align_at(d, s)
         dx = px - xs
         dy = py - ys
         ct, st = math.cos(psi), math.sin(psi)
@@ -216,7 +262,7 @@ def track_position(d, rx, ry):
         s += along / (1.0 - kappa * lateral)
         if abs(along) < 1e-12:
             break
-    return s, lateral, psi - psif
+    return s, lateral, zh, psi - psif
 
 
 @numba.njit(**_JIT)
@@ -259,12 +305,14 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
         loc[WL_CURVATURE] = 0.0
         loc[WL_CANT] = 0.0
         loc[WL_DPSI] = 0.0
+        loc[WL_FRAME_ROLL] = 0.0
     K.wheelset_contact(
         d.wtab[w, 0], d.winfo[w, 0], d.rtab[0], d.rinfo[0], d.wtab[w, 1], d.winfo[w, 1],
         d.rtab[1], d.rinfo[1], d.htab, d.ktab, d.params, state, rails, points[w], force,
     )  # fmt: skip
     if d.curved:
-        _to_vehicle_frame(d.ws_local[w, WL_CANT], d.ws_local[w, WL_DPSI], force)
+        loc = d.ws_local[w]
+        _to_vehicle_frame(loc[WL_CANT], loc[WL_DPSI], loc[WL_FRAME_ROLL], force)
     for k in range(6):
         ws_force[w, k] = force[k]
     tx, ty, tz = force[3], force[4], force[5]
@@ -277,43 +325,49 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
 
 
 @numba.njit(inline="always", **_JIT)
-def _to_local(cz, sz, cx, sx, vx, vy, vz):
-    """``Rx(phi)^T Rz(dpsi)^T v`` (vehicle frame -> canted local track frame)."""
-    a = cz * vx + sz * vy
-    b = -sz * vx + cz * vy
-    return a, cx * b + sx * vz, -sx * b + cx * vz
+def _to_local(cf, sf, cz, sz, cx, sx, vx, vy, vz):
+    """``Rx(cant)^T Rz(dpsi)^T Rx(phi_F) v``: vehicle frame -> canted local track frame."""
+    b = cf * vy - sf * vz
+    c = sf * vy + cf * vz
+    a = cz * vx + sz * b
+    b = -sz * vx + cz * b
+    return a, cx * b + sx * c, -sx * b + cx * c
 
 
 @numba.njit(**_JIT)
 def _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails):
     """The kernel's state and rail offsets of wheelset ``w`` in its local track frame (curved
     track); also fills ``d.ws_local[w]``."""
-    s_f = d.frame[FR_S]
-    omega = d.frame[FR_V] * _align_at(d, s_f)[3]  # the frame's yaw rate
-    rx = d.qref[o] + q[o] - s_f
+    fm = np.empty(12)
+    frame_motion(d, fm)
+    rx = d.qref[o] + q[o] - d.frame[FR_S]
     ry = d.qref[o + 1] + q[o + 1]
     rz = d.qref[o + 2] + q[o + 2]
-    s, lateral, dpsi = track_position(d, rx, ry)
-    _, _, _, kappa, cant, _, dcant = _align_at(d, s)
+    s, lateral, zh, dpsi = track_position(d, rx, ry, rz)
+    _, _, _, kappa, cant, _, dcant, _ = _align_at(d, s)
+    cf, sf = math.cos(fm[1]), math.sin(fm[1])
     cz, sz = math.cos(dpsi), math.sin(dpsi)
     cx, sx = math.cos(cant), math.sin(cant)
     # position: the foot point is the local origin (along-track offset zero)
     state[0] = s
-    state[1] = cx * lateral + sx * rz
-    state[2] = -sx * lateral + cx * rz
+    state[1] = cx * lateral + sx * zh
+    state[2] = -sx * lateral + cx * zh
     # axle direction (body z) -> roll and yaw relative to the canted local track
-    ax, ay, az = _to_local(cz, sz, cx, sx, s1, -s0 * c1, c0 * c1)
+    ax, ay, az = _to_local(cf, sf, cz, sz, cx, sx, s1, -s0 * c1, c0 * c1)
     state[3] = math.atan2(az, ay)
     state[4] = math.asin(-ax)
-    # absolute velocity of the centre and absolute angular velocity, local axes
-    vx = qt[o] - omega * ry
-    vy = qt[o + 1] + omega * rx
-    state[5], state[6], state[7] = _to_local(cz, sz, cx, sx, vx, vy, qt[o + 2])
+    # absolute velocity of the centre (frame velocity + Omega x r) and absolute angular
+    # velocity, local axes
+    ox, oy, oz = fm[2], fm[3], fm[4]
+    vx = qt[o] + oy * rz - oz * ry
+    vy = qt[o + 1] + oz * rx - ox * rz
+    vz = qt[o + 2] + ox * ry - oy * rx
+    state[5], state[6], state[7] = _to_local(cf, sf, cz, sz, cx, sx, vx, vy, vz)
     d0, d1, d2 = qt[o + 3], qt[o + 4], qt[o + 5]
-    wx = d0 + s1 * d2
-    wy = c0 * d1 - s0 * c1 * d2
-    wz = s0 * d1 + c0 * c1 * d2 + omega
-    state[8], state[9], state[10] = _to_local(cz, sz, cx, sx, wx, wy, wz)
+    wx = d0 + s1 * d2 + ox
+    wy = c0 * d1 - s0 * c1 * d2 + oy
+    wz = s0 * d1 + c0 * c1 * d2 + oz
+    state[8], state[9], state[10] = _to_local(cf, sf, cz, sz, cx, sx, wx, wy, wz)
     _irregularity(s, d.irr_start, d.irr_step, d.irr_values, d.irr_slopes, rails, state[5])
     # the cant changing along the track raises one rail and lowers the other under the wheel
     rate = d.frame[FR_HALF_BASE] * dcant * state[5]
@@ -328,45 +382,62 @@ def _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails):
     loc[WL_CURVATURE] = kappa
     loc[WL_CANT] = cant
     loc[WL_DPSI] = dpsi
+    loc[WL_FRAME_ROLL] = fm[1]
 
 
 @numba.njit(**_JIT)
-def _to_vehicle_frame(cant, dpsi, force):
+def _to_vehicle_frame(cant, dpsi, phi_f, force):
     """Turn the kernel's force and torque from the local track frame (cant angle, heading
-    ``dpsi`` relative to the vehicle frame) into the vehicle frame: ``Rz(dpsi) Rx(cant)``."""
+    ``dpsi`` relative to the frame) into the vehicle frame: ``Rx(phi_F)^T Rz(dpsi) Rx(cant)``."""
     cz, sz = math.cos(dpsi), math.sin(dpsi)
     cx, sx = math.cos(cant), math.sin(cant)
+    cf, sf = math.cos(phi_f), math.sin(phi_f)
     for k in (0, 3):
         fx, fy, fz = force[k], force[k + 1], force[k + 2]
         b = cx * fy - sx * fz
-        force[k + 2] = sx * fy + cx * fz
-        force[k] = cz * fx - sz * b
-        force[k + 1] = sz * fx + cz * b
+        c = sx * fy + cx * fz
+        a = cz * fx - sz * b
+        b = sz * fx + cz * b
+        force[k] = a
+        force[k + 1] = cf * b + sf * c
+        force[k + 2] = -sf * b + cf * c
+
+
+@numba.njit(**_JIT)
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
 @numba.njit(**_JIT)
 def _frame_forces(j, q, qt, d, out):
-    """Add the inertial forces of the turning vehicle frame on body ``j`` of ``d.body_slots``.
+    """Add the inertial forces of the moving vehicle frame and the frame's share of gravity on
+    body ``j`` of ``d.body_slots``.
 
-    The frame's origin runs along the centre line at speed ``V`` and turns about the vertical at
-    ``Omega = V kappa(s_F)``; a body at ``r`` in the frame has the absolute acceleration
-    ``a_F + r'' + 2 Omega x r' + Omega' x r + Omega x (Omega x r)`` and the absolute angular
-    velocity ``omega + Omega`` (Goldstein, Poole & Safko 2002, Classical Mechanics, ch. 4.10 and
-    5.5). The terms Exudyn does not know are added as forces; the tangential ``V'`` cancels
-    because the first coordinate already contains ``s_F``.
+    A body at ``r`` in a frame with origin acceleration ``a_O``, angular velocity ``Omega`` and
+    angular acceleration ``Omega'`` has the absolute acceleration
+    ``a_O + r'' + 2 Omega x r' + Omega' x r + Omega x (Omega x r)`` and the absolute angular
+    velocity ``w + Omega`` (Goldstein, Poole & Safko 2002, Classical Mechanics, 3rd ed.,
+    ch. 4.10); the terms Exudyn does not know are added as forces. The tangential ``V'`` of the
+    origin cancels because the first coordinate already contains ``s_F``.
     """
+    fm = np.empty(12)
+    frame_motion(d, fm)
     o = 6 * d.body_slots[j]
     m = d.body_mass[j]
-    s_f = d.frame[FR_S]
     v = d.frame[FR_V]
-    _, _, _, kappa, _, dkappa, _ = _align_at(d, s_f)
-    om = v * kappa
-    omd = d.frame[FR_VDOT] * kappa + v * v * dkappa
-    rx = d.qref[o] + q[o] - s_f
+    rx = d.qref[o] + q[o] - d.frame[FR_S]
     ry = d.qref[o + 1] + q[o + 1]
-    out[o] += m * (2.0 * om * qt[o + 1] + omd * ry + om * om * rx)
-    out[o + 1] -= m * (v * om + 2.0 * om * (qt[o] - v) + omd * rx - om * om * ry)
-    # rotation: J (dOmega_b - w_b x Omega_b) + w_b x J Omega_b + Omega_b x J (w_b + Omega_b)
+    rz = d.qref[o + 2] + q[o + 2]
+    vx, vy, vz = qt[o] - v, qt[o + 1], qt[o + 2]
+    ox, oy, oz = fm[2], fm[3], fm[4]
+    c1x, c1y, c1z = _cross(ox, oy, oz, vx, vy, vz)
+    c2x, c2y, c2z = _cross(fm[5], fm[6], fm[7], rx, ry, rz)
+    wx_, wy_, wz_ = _cross(ox, oy, oz, rx, ry, rz)
+    c3x, c3y, c3z = _cross(ox, oy, oz, wx_, wy_, wz_)
+    out[o] -= m * (2.0 * c1x + c2x + c3x)
+    out[o + 1] -= m * (fm[8] + 2.0 * c1y + c2y + c3y - fm[10])
+    out[o + 2] -= m * (fm[9] + 2.0 * c1z + c2z + c3z - fm[11])
+    # rotation: J (A^T Omega' - w_b x Omega_b) + w_b x J Omega_b + Omega_b x J (w_b + Omega_b)
     t0 = d.qref[o + 3] + q[o + 3]
     t1 = d.qref[o + 4] + q[o + 4]
     t2 = d.qref[o + 5] + q[o + 5]
@@ -376,25 +447,23 @@ def _frame_forces(j, q, qt, d, out):
     wx = qt[o + 3] + s1 * qt[o + 5]
     wy = c0 * qt[o + 4] - s0 * c1 * qt[o + 5]
     wz = s0 * qt[o + 4] + c0 * c1 * qt[o + 5]
-    # body axes: w_b = A^T w, Omega_b = A^T (0, 0, om) = om * (third row of A)
+    # body axes: u_b = A^T u
     bx = a[0] * wx + a[3] * wy + a[6] * wz
     by = a[1] * wx + a[4] * wy + a[7] * wz
     bz = a[2] * wx + a[5] * wy + a[8] * wz
-    ox, oy, oz = om * a[6], om * a[7], om * a[8]
+    obx = a[0] * ox + a[3] * oy + a[6] * oz
+    oby = a[1] * ox + a[4] * oy + a[7] * oz
+    obz = a[2] * ox + a[5] * oy + a[8] * oz
+    dbx = a[0] * fm[5] + a[3] * fm[6] + a[6] * fm[7]
+    dby = a[1] * fm[5] + a[4] * fm[6] + a[7] * fm[7]
+    dbz = a[2] * fm[5] + a[5] * fm[6] + a[8] * fm[7]
     jx, jy, jz = d.body_inertia[j, 0], d.body_inertia[j, 1], d.body_inertia[j, 2]
-    # J (A^T Omega' - w_b x Omega_b)
-    ex = jx * (omd * a[6] - (by * oz - bz * oy))
-    ey = jy * (omd * a[7] - (bz * ox - bx * oz))
-    ez = jz * (omd * a[8] - (bx * oy - by * ox))
-    # w_b x J Omega_b
-    ex += by * jz * oz - bz * jy * oy
-    ey += bz * jx * ox - bx * jz * oz
-    ez += bx * jy * oy - by * jx * ox
-    # Omega_b x J (w_b + Omega_b)
-    ux, uy, uz = jx * (bx + ox), jy * (by + oy), jz * (bz + oz)
-    ex += oy * uz - oz * uy
-    ey += oz * ux - ox * uz
-    ez += ox * uy - oy * ux
+    kx, ky, kz = _cross(bx, by, bz, obx, oby, obz)
+    ex, ey, ez = jx * (dbx - kx), jy * (dby - ky), jz * (dbz - kz)
+    kx, ky, kz = _cross(bx, by, bz, jx * obx, jy * oby, jz * obz)
+    ex, ey, ez = ex + kx, ey + ky, ez + kz
+    kx, ky, kz = _cross(obx, oby, obz, jx * (bx + obx), jy * (by + oby), jz * (bz + obz))
+    ex, ey, ez = ex + kx, ey + ky, ez + kz
     # torque -A e in the frame, then on the angles through G^T
     tx = -(a[0] * ex + a[1] * ey + a[2] * ez)
     ty = -(a[3] * ex + a[4] * ey + a[5] * ez)

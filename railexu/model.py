@@ -461,7 +461,7 @@ class VehicleModel:
         names = list(self.node) if self.curved else []
         frame = np.zeros(FR_SIZE)
         frame[:] = [self.frame_start_m, self.speed, -self.deceleration,
-                    0.5 * self.alignment.cant_base_m]  # fmt: skip
+                    0.5 * self.alignment.cant_base_m, self.vehicle.gravity_m_per_s2]  # fmt: skip
         align_start, align_step, align = self.align_sampled
         return KernelData(
             qref=qref,

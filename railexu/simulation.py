@@ -144,6 +144,8 @@ class _Recorder:
         self.i_body_x = np.array([ltg[n][0] for n in self.body_names], dtype=int)
         self.ref_body = np.array([model.centre[n][1] for n in self.body_names])
         self.ref_body_x = np.array([model.centre[n][0] for n in self.body_names])
+        self.i_body_z = np.array([ltg[n][2] for n in self.body_names], dtype=int)
+        self.ref_body_z = np.array([model.centre[n][2] for n in self.body_names])
         # lateral positions are recorded relative to the track centre line (the mean lateral
         # offset of the two rails, i.e. the alignment irregularity)
         values = model.irr_values
@@ -240,11 +242,16 @@ class _Recorder:
         y_body = self.ref_body + q[self.i_body]
         if not self.curved:
             return y_body - self._track_centre(x_body)
+        # in the canted plane of the track at the foot point, as the wheelsets' lateral
         data = self.model.kernel
+        z_body = self.ref_body_z + q[self.i_body_z]
         out = np.empty(x_body.size)
         for j in range(x_body.size):
-            s, lateral, _ = track_position(data, x_body[j] - data.frame[FR_S], y_body[j])
-            out[j] = lateral - self._track_centre(s)
+            s, lateral, height, _ = track_position(
+                data, x_body[j] - data.frame[FR_S], y_body[j], z_body[j]
+            )
+            cant = float(self.model.alignment.cant_angle(s))
+            out[j] = math.cos(cant) * lateral + math.sin(cant) * height - self._track_centre(s)
         return out
 
     def _track_centre(self, x: np.ndarray) -> np.ndarray | float:

@@ -1,0 +1,148 @@
+"""Vehicles in curves against outside references: the steady-curve force balance (Newton's
+second law in the track plane), the pure-rolling position of a free wheelset (the kinematic
+condition of Redtenbacher 1855, in Wickens 2003, Fundamentals of Rail Vehicle Dynamics, ch. 6),
+flange contact of the leading outer wheel at a large cant deficiency, and the curving outputs."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railexu.contact.conicity import equivalent_conicity
+from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.placement import symmetric_wheelset
+from railexu.simulation import RunSettings, run
+from railexu.track import load_track, track_from_dict
+from railexu.vehicle import load_vehicle
+
+ROOT = Path(__file__).resolve().parents[1]
+G = 9.81
+
+
+def _curve_track(radius_m, cant_m, curve_m, transition_m, straight_m=20.0, **extra):
+    data = {
+        "format_version": 1,
+        "name": f"R{radius_m:g}",
+        "geometry": {
+            "type": "sections",
+            "sections": [
+                {"type": "straight", "length": f"{straight_m} m"},
+                {"type": "transition", "length": f"{transition_m} m"},
+                {"type": "curve", "length": f"{curve_m} m", "radius": f"{radius_m} m",
+                 "cant": f"{cant_m} m", "direction": "left"},  # fmt: skip
+            ],
+        },
+    }
+    data.update(extra)
+    return track_from_dict(data)
+
+
+def _sum(ts, quantity, n_ws):
+    return sum(ts[f"ws{i}_{side}_{quantity}"] for i in range(1, n_ws + 1)
+               for side in ("left", "right"))  # fmt: skip
+
+
+def _all_inside(ts, n_ws, start_m, end_m):
+    s = np.array([ts[f"ws{i}_s_m"] for i in range(1, n_ws + 1)])
+    return (s.min(axis=0) >= start_m) & (s.max(axis=0) <= end_m)
+
+
+@pytest.fixture(scope="module", params=[10.0, 30.0], ids=["10mps", "30mps"])
+def eu07_r600(request):
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = _curve_track(600.0, 0.1, 280.0, 40.0)
+    settings = RunSettings(speed_m_per_s=request.param, distance_m=330.0, initial_lateral_m=0.0)
+    return request.param, vehicle, run(vehicle, track, settings)
+
+
+def test_steady_curve_force_balance(eu07_r600):
+    """In the steady part of a curve the rails carry the vehicle's weight and centripetal force:
+    sum Y = m (V^2/R cos(phi) - g sin(phi)) and sum Q = m (g cos(phi) + V^2/R sin(phi)) in the
+    track plane (phi the cant angle), whatever the profiles and the creep law. Within 1 %
+    (the issue's criterion): averaged over the last 150 m of the curve; what remains is the
+    residual sway of the car body after the transition."""
+    speed, vehicle, result = eu07_r600
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    n_ws = len(vehicle.wheelsets)
+    mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
+    phi = math.asin(0.1 / 1.5)
+    a = speed**2 / 600.0
+    steady = _all_inside(ts, n_ws, 20.0 + 40.0 + 130.0, 340.0)
+    assert np.sum(steady) > 100
+    sum_y = float(np.mean(_sum(ts, "Y_N", n_ws)[steady]))
+    sum_q = float(np.mean(_sum(ts, "Q_N", n_ws)[steady]))
+    expected_y = mass * (a * math.cos(phi) - G * math.sin(phi))
+    expected_q = mass * (G * math.cos(phi) + a * math.sin(phi))
+    assert sum_y == pytest.approx(expected_y, rel=0.01)
+    assert sum_q == pytest.approx(expected_q, rel=0.01)
+    # cant excess at 10 m/s (the vehicle hangs on the inner rail), deficiency at 30 m/s
+    assert np.sign(sum_y) == (-1.0 if speed < 19.8 else 1.0)
+
+
+def test_curving_outputs_in_summary_and_time_series(eu07_r600):
+    speed, vehicle, result = eu07_r600
+    ts = result.timeseries
+    curve = result.summary["curving"]["curves"][0]
+    assert curve["radius_m"] == pytest.approx(600.0)
+    assert [w["name"] for w in curve["wheelsets"]] == ["ws1", "ws2", "ws3", "ws4"]
+    expected = 1.5 * speed**2 / (G * 600.0) - 0.1  # EN 13803 cant deficiency
+    assert curve["cant_deficiency_m"] == pytest.approx(expected, rel=1e-6)
+    lead = curve["wheelsets"][0]
+    assert lead["Q_outer_N"]["quasi_static"] > 0.0
+    assert lead["Tgamma_outer_N"]["max"] >= lead["Tgamma_outer_N"]["quasi_static"] >= 0.0
+    # the leading wheelset of a bogie points to the outside of the curve (positive angle of
+    # attack, Wickens 2003 ch. 6), the trailing one much less
+    assert lead["angle_of_attack_rad"]["quasi_static"] > 1e-3
+    for column in ("track_curvature_1_per_m", "cant_deficiency_m", "ws1_s_m", "ws1_left_Tgamma_N"):
+        assert column in ts.columns
+
+
+def test_free_wheelset_rolls_at_the_pure_rolling_position():
+    """A free wheelset with conical wheels at low speed in a large-radius curve oscillates about
+    the position where the rolling-radius difference equals 2 b r0 / R (pure rolling), i.e. the
+    lateral shift y = b r0 / (gamma R) towards the outer rail, with an angle of attack near
+    zero. Mean over the steady curve (whole kinematic wavelengths); 5 %: the equivalent
+    conicity is taken at 2 mm amplitude and b is the nominal 0.75 m."""
+    cone = 0.05
+    vehicle = load_vehicle(ROOT / "vehicles" / "wheelset.yaml",
+                           [f"wheelsets.ws1.wheel_profile=cone:{cone}"])  # fmt: skip
+    track = _curve_track(2000.0, 0.0, 260.0, 120.0, rail_profile="round:0.05",
+                         inclination="none")  # fmt: skip
+    # (exactly centred, this free wheelset's first Newton steps fail on straight track too)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=5.0, distance_m=400.0,
+                                             initial_lateral_m=0.001))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ws = vehicle.wheelsets[0]
+    geometry = symmetric_wheelset(ws.wheel_profile, "round:0.05",
+                                  nominal_radius_m=ws.nominal_radius_m, inclination="none")
+    gamma = float(equivalent_conicity(WheelsetContactModel(geometry, vehicle.contact, 5.0),
+                                      [0.004], step_m=2.5e-4)[0][0])  # fmt: skip
+    ts = result.timeseries
+    steady = ts["ws1_s_m"] > 20.0 + 120.0 + 40.0
+    y = ts["ws1_lateral_m"][steady]
+    expected = -0.75 * ws.nominal_radius_m / (gamma * 2000.0)  # towards the outer (right) rail
+    assert float(np.mean(y)) == pytest.approx(expected, rel=0.05)
+    assert abs(float(np.mean(ts["ws1_yaw_rad"][steady]))) < 2e-5
+
+
+def test_large_cant_deficiency_puts_the_leading_outer_wheel_on_its_flange():
+    """R 300 m, 150 mm cant, at the speed of 150 mm cant deficiency (EN 13803:
+    I = 1.5 V^2/(g R) - D): the leading outer wheel of the EU07 runs on its flange (contact
+    angle near the flange angle, 70 deg for S1002), the inner wheel on its tread."""
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = load_track(ROOT / "tracks" / "curve_r300.yaml")
+    speed = math.sqrt((0.15 + 0.15) * G * 300.0 / 1.5)  # 24.3 m/s
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=300.0,
+                                             initial_lateral_m=0.0))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    steady = ts["ws1_s_m"] > 100.0 + 70.0 + 40.0
+    outer = ts["ws1_right_max_angle_rad"][steady]
+    inner = ts["ws1_left_max_angle_rad"][steady]
+    assert np.median(outer) > math.radians(50.0)
+    assert np.max(np.abs(inner)) < math.radians(10.0)
+    assert result.summary["curving"]["curves"][0]["cant_deficiency_m"] == pytest.approx(0.15)
