@@ -29,4 +29,13 @@ def write_run(result: RunResult, out_dir: str | Path, plots: bool = True) -> lis
         title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
         for name, fig in run_figures(result.timeseries, result.summary, title).items():
             written.extend(save_figure(fig, out / name))
+        alignment = getattr(result.track, "alignment", None)
+        if alignment is not None and not alignment.is_straight:
+            from .curving_figures import curving_figure
+            from .track_figures import track_figure
+
+            written.extend(save_figure(track_figure(alignment, result.track.name), out / "track"))
+            written.extend(
+                save_figure(curving_figure(result.timeseries, alignment, title), out / "curving")
+            )
     return written
