@@ -53,7 +53,7 @@ def _all_inside(ts, n_ws, start_m, end_m):
 @pytest.fixture(scope="module", params=[10.0, 30.0], ids=["10mps", "30mps"])
 def eu07_r600(request):
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
-    track = _curve_track(600.0, 0.1, 280.0, 40.0)
+    track = _curve_track(600.0, 0.1, 320.0, 40.0)  # the curve ends at 380 m
     settings = RunSettings(speed_m_per_s=request.param, distance_m=330.0, initial_lateral_m=0.0)
     return request.param, vehicle, run(vehicle, track, settings)
 
@@ -71,7 +71,7 @@ def test_steady_curve_force_balance(eu07_r600):
     mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
     phi = math.asin(0.1 / 1.5)
     a = speed**2 / 600.0
-    steady = _all_inside(ts, n_ws, 20.0 + 40.0 + 130.0, 340.0)
+    steady = _all_inside(ts, n_ws, 20.0 + 40.0 + 130.0, 380.0)
     assert np.sum(steady) > 100
     sum_y = float(np.mean(_sum(ts, "Y_N", n_ws)[steady]))
     sum_q = float(np.mean(_sum(ts, "Q_N", n_ws)[steady]))
