@@ -108,6 +108,9 @@ class KernelData(NamedTuple):
     body_mass: np.ndarray  # their masses [kg]
     body_inertia: np.ndarray  # their principal inertias in body axes (n, 3) [kg m^2]
     ws_local: np.ndarray  # output: track-relative pose of each wheelset (n_ws, WL_SIZE)
+    rail_index: np.ndarray  # elastic track: first of the 4 rail coordinates of each wheelset
+    #                         (left y, z, right y, z) in the object's coordinates; empty: rigid
+    rail_preload: np.ndarray  # elastic track: static vertical wheel loads (n_ws, 2) [N]
 
 
 @numba.njit(inline="always", **_JIT)
@@ -267,8 +270,9 @@ def track_position(d, rx, ry, rz):
 
 @numba.njit(**_JIT)
 def _wheelset(w, q, qt, d, gen, points, ws_force, work):
-    """Generalized contact forces of wheelset ``w`` on its 6 node coordinates into ``gen``
-    (``work``: scratch of 25 entries)."""
+    """Generalized contact forces of wheelset ``w`` on its 6 node coordinates into ``gen[:6]``
+    and, on elastic track, on its 4 rail coordinates into ``gen[6:10]`` (``work``: scratch of
+    25 entries)."""
     o = 6 * d.ws_slots[w]
     t0 = d.qref[o + 3] + q[o + 3]
     t1 = d.qref[o + 4] + q[o + 4]
@@ -306,10 +310,30 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
         loc[WL_CANT] = 0.0
         loc[WL_DPSI] = 0.0
         loc[WL_FRAME_ROLL] = 0.0
+    elastic = d.rail_index.shape[0] > 0
+    if elastic:
+        # the co-running rail masses under this wheelset move the rails (track frame)
+        r = d.rail_index[w]
+        for side in range(2):
+            rails[4 * side] += q[r + 2 * side]
+            rails[4 * side + 1] += q[r + 2 * side + 1]
+            rails[4 * side + 2] += qt[r + 2 * side]
+            rails[4 * side + 3] += qt[r + 2 * side + 1]
     K.wheelset_contact(
         d.wtab[w, 0], d.winfo[w, 0], d.rtab[0], d.rinfo[0], d.wtab[w, 1], d.winfo[w, 1],
         d.rtab[1], d.rinfo[1], d.htab, d.ktab, d.params, state, rails, points[w], force,
     )  # fmt: skip
+    if elastic:
+        # reaction on the rail masses, and the static wheel load they carry at rest (their
+        # coordinates are measured from the statically loaded position)
+        for side in range(2):
+            fy = 0.0
+            fz = 0.0
+            for k in range(points.shape[2]):
+                fy += points[w, side, k, K.PF_FTY]
+                fz += points[w, side, k, K.PF_FTZ]
+            gen[6 + 2 * side] = -fy
+            gen[7 + 2 * side] = d.rail_preload[w, side] - fz
     if d.curved:
         loc = d.ws_local[w]
         _to_vehicle_frame(loc[WL_CANT], loc[WL_DPSI], loc[WL_FRAME_ROLL], force)
@@ -562,13 +586,18 @@ def generalized_forces(q, qt, d, out, points, ws_force):
     """
     for i in range(out.shape[0]):
         out[i] = 0.0
-    gen = np.empty(6)
+    gen = np.empty(10)
     work = np.empty(25)
+    elastic = d.rail_index.shape[0] > 0
     for w in range(d.ws_slots.shape[0]):
         _wheelset(w, q, qt, d, gen, points, ws_force, work)
         o = 6 * d.ws_slots[w]
         for k in range(6):
             out[o + k] += gen[k]
+        if elastic:
+            r = d.rail_index[w]
+            for k in range(4):
+                out[r + k] += gen[6 + k]
     for b in range(d.bs_int.shape[0]):
         _bump_stop(b, q, qt, d.qref, d.bs_int, d.bs_real, out)
     if d.curved:
@@ -593,28 +622,36 @@ def jacobian(q, qt, d, f_q, f_v, jac, points, ws_force):
     for i in range(n):
         for j in range(n):
             jac[i, j] = 0.0
-    gen0 = np.empty(6)
-    gen1 = np.empty(6)
+    gen0 = np.empty(10)
+    gen1 = np.empty(10)
     work = np.empty(25)
     qp = q.copy()
     qtp = qt.copy()
+    elastic = d.rail_index.shape[0] > 0
+    n_own = 10 if elastic else 6  # the wheelset's coordinates and its rail masses'
+    index = np.empty(10, dtype=np.int64)
     for w in range(d.ws_slots.shape[0]):
         o = 6 * d.ws_slots[w]
+        for k in range(6):
+            index[k] = o + k
+        if elastic:
+            for k in range(4):
+                index[6 + k] = d.rail_index[w] + k
         _wheelset(w, q, qt, d, gen0, points, ws_force, work)
-        for j in range(12):
-            col = o + (j % 6)
+        for j in range(2 * n_own):
+            col = index[j % n_own]
             if j == 5:
                 continue  # the spin angle does not change the contact
-            if j < 6:
+            if j < n_own:
                 h = EPS_Q
                 qp[col] = q[col] + h
             else:
                 h = EPS_V
                 qtp[col] = qt[col] + h
             _wheelset(w, qp, qtp, d, gen1, points, ws_force, work)
-            factor = f_q if j < 6 else f_v
-            for k in range(6):
-                jac[o + k, col] -= factor * (gen1[k] - gen0[k]) / h
+            factor = f_q if j < n_own else f_v
+            for k in range(n_own):
+                jac[index[k], col] -= factor * (gen1[k] - gen0[k]) / h
             qp[col] = q[col]
             qtp[col] = qt[col]
     # bump stops

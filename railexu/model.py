@@ -204,6 +204,7 @@ class VehicleModel:
         self._add_suspension()
         self._add_loads()
         self._sample_track()
+        self._add_rail_masses()
         self._add_contact_element()
         self._add_speed_constraint()
         self.mbs.Assemble()
@@ -211,7 +212,15 @@ class VehicleModel:
             name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
             for name, n in self.node.items()
         }
-        self.object_ltg = np.concatenate([self.ltg[self._name_of(n)] for n in self.ode_nodes])
+        self.rail_ltg = {
+            name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
+            for name, n in self.rail_node.items()
+        }
+        rail_of = {n: name for name, n in self.rail_node.items()}
+        self.object_ltg = np.concatenate(
+            [self.rail_ltg[rail_of[n]] if n in rail_of else self.ltg[self._name_of(n)]
+             for n in self.ode_nodes]
+        )  # fmt: skip
 
     def _centre_line_offset(self, x: float) -> float:
         """Lateral position of the track centre line in the vehicle frame at the start, at the
@@ -384,6 +393,42 @@ class VehicleModel:
         xs += [w.position_x_m for w in self.vehicle.wheelsets]
         return float(max(xs) - min(xs))
 
+    def _add_rail_masses(self) -> None:
+        """Elastic track: under each wheelset a node of 4 coordinates (left rail lateral and
+        vertical, right rail lateral and vertical, track frame) with the co-running rail mass,
+        stiffness and damping to the ground (:mod:`railexu.track_model`)."""
+        from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2
+
+        self.rail_node: dict[str, int] = {}
+        et = getattr(self.track, "elastic", None)
+        if et is None:
+            return
+        mass = np.eye(4) * et.rail_mass_kg
+        k_y, k_z = et.lateral_stiffness_N_per_m, et.vertical_stiffness_N_per_m
+        c_y, c_z = et.lateral_damping_N_s_per_m, et.vertical_damping_N_s_per_m
+        stiffness = np.diag([k_y, k_z, k_y, k_z])
+        damping = np.diag([c_y, c_z, c_y, c_z])
+        for ws in self.wheelset_names():
+            n = self.mbs.AddNode(
+                NodeGenericODE2(
+                    referenceCoordinates=[0.0] * 4,
+                    initialCoordinates=[0.0] * 4,
+                    initialCoordinates_t=[0.0] * 4,
+                    numberOfODE2Coordinates=4,
+                )
+            )
+            self.mbs.AddObject(
+                ObjectGenericODE2(
+                    nodeNumbers=[n], massMatrix=mass, stiffnessMatrix=stiffness,
+                    dampingMatrix=damping,
+                )
+            )  # fmt: skip
+            self.rail_node[ws] = n
+
+    def wheelset_names(self) -> list[str]:
+        """Names of the wheelsets in the vehicle file's order."""
+        return [w.name for w in self.vehicle.wheelsets]
+
     def _add_contact_element(self) -> None:
         """One ObjectGenericODE2 over the wheelsets (and the bodies joined by bump stops; on
         curved track all bodies, for the frame's inertial forces) with the compiled forces."""
@@ -398,9 +443,10 @@ class VehicleModel:
         for name in extra:
             if self.node[name] not in ode_nodes:
                 ode_nodes.append(self.node[name])
-        self.ode_nodes = ode_nodes
         slot = {node: i for i, node in enumerate(ode_nodes)}
-        n_coords = 6 * len(ode_nodes)
+        n_coords = 6 * len(ode_nodes) + 4 * len(self.rail_node)
+        ode_nodes += [self.rail_node[n] for n in wheelset_names if n in self.rail_node]
+        self.ode_nodes = ode_nodes
         self._out = np.zeros(n_coords)
         n_ws = len(wheelset_names)
         self.points = np.zeros((n_ws, 2, K.MAX_POINTS, K.N_POINT_FIELDS))
@@ -459,6 +505,10 @@ class VehicleModel:
             bs_real[i, 9] = el.damping_N_s_per_m
             bs_real[i, 10] = d0
         names = list(self.node) if self.curved else []
+        n_rigid = len(slot)
+        rail_index = np.array(
+            [6 * n_rigid + 4 * i for i in range(len(self.rail_node))], dtype=np.int64
+        )
         frame = np.zeros(FR_SIZE)
         frame[:] = [self.frame_start_m, self.speed, -self.deceleration,
                     0.5 * self.alignment.cant_base_m, self.vehicle.gravity_m_per_s2]  # fmt: skip
@@ -477,6 +527,8 @@ class VehicleModel:
             body_mass=np.array([self.inertia[n][0] for n in names], dtype=float),
             body_inertia=np.array([self.inertia[n][1] for n in names], dtype=float).reshape(-1, 3),
             ws_local=np.zeros((len(wheelset_names), WL_SIZE)),
+            rail_index=rail_index,
+            rail_preload=np.ascontiguousarray(self.statics.wheel_loads_N, dtype=float),
         )  # fmt: skip
 
     def set_time(self, t: float) -> None:

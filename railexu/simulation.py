@@ -134,6 +134,20 @@ class _Recorder:
              for i in range(1, n_ws + 1)]
         )  # fmt: skip
         self.curved = model.curved
+        # elastic track: deflections of the rail masses under each wheelset
+        self.rail_columns = []
+        self.rail_coords = []
+        for i, name in enumerate(names, start=1):
+            if name in model.rail_node:
+                self.rail_columns.append(len(self.columns))
+                for side in ("left", "right"):
+                    for k in ("lateral", "vertical"):
+                        self.columns.append(f"ws{i}_{side}_rail_{k}_m")
+                self.rail_coords.append(model.rail_ltg[name])
+        if self.rail_columns:
+            self.data = np.zeros((n_out, len(self.columns)))
+            self.c_rail = np.array([[c + k for k in range(4)] for c in self.rail_columns])
+            self.i_rail = np.array(self.rail_coords)
         ltg = model.ltg
         self.i_ws = np.array([ltg[n] for n in names])  # (n_ws, 6) global coordinates
         self.ref = np.array([model.centre[n] for n in names])
@@ -209,6 +223,8 @@ class _Recorder:
         row[self.c_tgamma] = np.abs(np.where(loaded, power, 0.0)).sum(axis=2)
         if self.c_body.size:
             row[self.c_body] = self._body_lateral(q)
+        if self.rail_columns:
+            row[self.c_rail] = q[self.i_rail]
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track
