@@ -37,6 +37,7 @@ from .irregularities import (
     synthesize_irregularities,
 )
 from .profiles import ProfileError, rail_profile
+from .track_model import ElasticTrack, track_model_from_dict
 
 FORMAT_VERSION = 1
 TOP_KEYS = (
@@ -47,6 +48,7 @@ TOP_KEYS = (
     "inclination",
     "gauge",
     "geometry",
+    "track_model",
     "irregularities",
 )
 IRREGULARITY_KEYS = {
@@ -96,6 +98,8 @@ class Track:
     source: str = ""
     # design geometry (railexu.alignment); None: straight track
     alignment: Alignment | None = field(default=None, compare=False)
+    # elastic track (railexu.track_model); None: rigid
+    elastic: ElasticTrack | None = None
 
     @property
     def inclination_rad(self) -> float:
@@ -221,4 +225,5 @@ def track_from_dict(
         description=top.string("description", default=""),
         source=source,
         alignment=alignment,
+        elastic=track_model_from_dict(top.data.get("track_model"), source, lines),
     )
