@@ -31,8 +31,13 @@ def _curve_track(radius_m, cant_m, curve_m, transition_m, straight_m=20.0, **ext
             "sections": [
                 {"type": "straight", "length": f"{straight_m} m"},
                 {"type": "transition", "length": f"{transition_m} m"},
-                {"type": "curve", "length": f"{curve_m} m", "radius": f"{radius_m} m",
-                 "cant": f"{cant_m} m", "direction": "left"},  # fmt: skip
+                {
+                    "type": "curve",
+                    "length": f"{curve_m} m",
+                    "radius": f"{radius_m} m",
+                    "cant": f"{cant_m} m",
+                    "direction": "left",
+                },  # fmt: skip
             ],
         },
     }
@@ -117,8 +122,9 @@ def test_free_wheelset_rolls_at_the_pure_rolling_position():
                                              initial_lateral_m=0.001))  # fmt: skip
     assert result.status["state"] == "completed"
     ws = vehicle.wheelsets[0]
-    geometry = symmetric_wheelset(ws.wheel_profile, "round:0.05",
-                                  nominal_radius_m=ws.nominal_radius_m, inclination="none")
+    geometry = symmetric_wheelset(
+        ws.wheel_profile, "round:0.05", nominal_radius_m=ws.nominal_radius_m, inclination="none"
+    )
     gamma = float(equivalent_conicity(WheelsetContactModel(geometry, vehicle.contact, 5.0),
                                       [0.004], step_m=2.5e-4)[0][0])  # fmt: skip
     ts = result.timeseries
