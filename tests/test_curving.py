@@ -152,3 +152,107 @@ def test_large_cant_deficiency_puts_the_leading_outer_wheel_on_its_flange():
     assert np.median(outer) > math.radians(50.0)
     assert np.max(np.abs(inner)) < math.radians(10.0)
     assert result.summary["curving"]["curves"][0]["cant_deficiency_m"] == pytest.approx(0.15)
+
+
+def _steady_curving_solution(p: dict) -> np.ndarray:
+    """The linear steady-curving equations of a two-axle bogie (Boocock 1969, Steady-state
+    motion of railway vehicles on curved track, J. Mech. Eng. Sci. 11; Wickens 2003, ch. 6),
+    solved for ``(y1, psi1, y2, psi2, yF, psiF)``: lateral shifts and yaw angles relative to the
+    local track of the leading and trailing wheelset and of the frame (at its centre).
+
+    Per wheelset (conicity ``lam``, semi-distance of the contact points ``l0``, radius ``r0``,
+    per-wheel creep coefficients ``f11``, ``f22``; spin neglected): lateral creep force
+    ``2 f22 psi``, yaw moment of the longitudinal creep forces ``-2 l0 f11 (l0 / R +
+    lam y / r0)``. Primary suspension at ``x = +-a`` from the frame centre, lateral stiffness
+    ``ky`` and yaw stiffness ``kpsi`` per wheelset; in the frame's tangent coordinates the track
+    centre at ``x`` lies ``x^2 / (2 R)`` to the inside and turns by ``x / R``. Centripetal forces
+    ``m V^2 / R`` of wheelsets and frame; no cant.
+    """
+    a, k = p["a"], 1.0 / p["R"]
+    f11, f22, lam, l0, r0 = p["f11"], p["f22"], p["lam"], p["l0"], p["r0"]
+    ky, kpsi, c_w, c_f = p["ky"], p["kpsi"], p["m_w"] * p["V"] ** 2 * k, p["m_f"] * p["V"] ** 2 * k
+    m = np.zeros((6, 6))
+    rhs = np.zeros(6)
+    for i, x in enumerate((a, -a)):
+        y, psi = 2 * i, 2 * i + 1
+        # relative lateral displacement d = y_i + x^2 k / 2 - yF - x psiF, relative yaw
+        # e = psi_i + x k - psiF
+        # wheelset lateral: 2 f22 psi_i - ky d = m_w V^2 k
+        m[y, psi] = 2 * f22
+        m[y, y] -= ky
+        m[y, 4] += ky
+        m[y, 5] += ky * x
+        rhs[y] = c_w + ky * x * x * k / 2
+        # wheelset yaw: -2 l0 f11 (l0 k + lam y_i / r0) - kpsi e = 0
+        m[psi, y] = -2 * l0 * f11 * lam / r0
+        m[psi, psi] = -kpsi
+        m[psi, 5] = kpsi
+        rhs[psi] = 2 * l0 * f11 * l0 * k + kpsi * x * k
+        # frame lateral: sum ky d = m_f V^2 k; frame yaw: sum (kpsi e + x ky d) = 0
+        m[4, y] += ky
+        m[4, 4] -= ky
+        m[4, 5] -= ky * x
+        rhs[4] -= ky * x * x * k / 2
+        m[5, psi] += kpsi
+        m[5, 5] -= kpsi
+        rhs[5] -= kpsi * x * k
+        m[5, y] += x * ky
+        m[5, 4] -= x * ky
+        m[5, 5] -= x * x * ky
+        rhs[5] -= x * ky * x * x * k / 2
+    rhs[4] += c_f
+    return np.linalg.solve(m, rhs)
+
+
+def test_linear_steady_curving_of_a_bogie():
+    """A two-axle bogie with conical wheels (1:20) on round rails and Kalker's linear creep law
+    in a 2500 m curve at 10 m/s: lateral shifts and angles of attack of both wheelsets against
+    the textbook steady-curving equations solved here with numpy. The creep coefficients come
+    from the Hertz ellipses of the run's contacts and Kalker's table, the conicity from the
+    quasi-static rolling-radius difference of the profiles. 5 % (0.05 mm on a 1 mm shift): spin
+    creep (about 1 % of the lateral creep force here), the contact angle and the rails' radius
+    are outside the linear textbook model."""
+    from railexu.contact import kernel as K
+    from railexu.contact.conicity import rolling_radius_difference
+    from railexu.contact.kalker import kalker_coefficients
+
+    cone, radius, speed = 0.05, 2500.0, 10.0
+    overrides = [f"wheelsets.{w}.wheel_profile=cone:{cone}" for w in ("ws1", "ws2")]
+    overrides.append("contact.creep_model=kalker_linear")
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml", overrides)
+    track = _curve_track(radius, 0.0, 300.0, 100.0, rail_profile="round:0.05",
+                         inclination="none")  # fmt: skip
+    # (exactly centred, cones on round rails fail the first Newton steps, on straight track too)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=390.0,
+                                             initial_lateral_m=0.001))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    steady = ts["ws2_s_m"] > 20.0 + 100.0 + 120.0
+    model = result.model
+    ws = vehicle.wheelsets[0]
+    geometry = symmetric_wheelset(
+        ws.wheel_profile, "round:0.05", nominal_radius_m=ws.nominal_radius_m, inclination="none"
+    )
+    y = np.linspace(-0.004, 0.004, 33)
+    dr = rolling_radius_difference(WheelsetContactModel(geometry, vehicle.contact, speed), y)
+    lam = float(np.polyfit(y, dr, 1)[0]) / 2.0
+    pts = model.points[:, :, 0, :]  # the loaded point of each wheel at the end of the run
+    a, b = pts[..., K.PF_A], pts[..., K.PF_B]
+    g = vehicle.contact.shear_modulus_Pa
+    coef = np.array([[kalker_coefficients(a[i, s] / b[i, s], vehicle.contact.poisson)
+                      for s in range(2)] for i in range(2)])  # fmt: skip
+    f11 = float(np.mean(g * a * b * coef[..., 0]))
+    f22 = float(np.mean(g * a * b * coef[..., 1]))
+    frame = vehicle.bodies[0]
+    p = {
+        "a": 1.5, "R": radius, "V": speed, "f11": f11, "f22": f22, "lam": lam, "l0": 0.75,
+        "r0": ws.nominal_radius_m, "ky": 2 * 2.5e6, "kpsi": 2 * 8e6 * 1.05**2,
+        "m_w": ws.mass_kg, "m_f": frame.mass_kg,
+    }  # fmt: skip
+    y1, psi1, y2, psi2, _, _ = _steady_curving_solution(p)
+    names = ("ws1_lateral_m", "ws1_yaw_rad", "ws2_lateral_m", "ws2_yaw_rad")
+    got = {name: float(np.mean(ts[name][steady])) for name in names}
+    assert got["ws1_lateral_m"] == pytest.approx(y1, rel=0.05, abs=5e-6)
+    assert got["ws2_lateral_m"] == pytest.approx(y2, rel=0.05, abs=5e-6)
+    assert got["ws1_yaw_rad"] == pytest.approx(psi1, rel=0.05, abs=2e-6)
+    assert got["ws2_yaw_rad"] == pytest.approx(psi2, rel=0.05, abs=2e-6)
