@@ -256,3 +256,36 @@ def test_linear_steady_curving_of_a_bogie():
     assert got["ws2_lateral_m"] == pytest.approx(y2, rel=0.05, abs=5e-6)
     assert got["ws1_yaw_rad"] == pytest.approx(psi1, rel=0.05, abs=2e-6)
     assert got["ws2_yaw_rad"] == pytest.approx(psi2, rel=0.05, abs=2e-6)
+
+
+def test_curved_track_formulation_reduces_to_straight_track():
+    """The curved-track path of the compiled forces (vehicle frame, projection onto the centre
+    line, local track frame) on a track without curvature and cant gives the forces and the
+    Jacobian of the straight-track path, for random states around the initial one."""
+    from railexu.forces import generalized_forces, jacobian
+    from railexu.model import VehicleModel
+
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml")
+    track = track_from_dict({"format_version": 1, "name": "straight"})
+    model = VehicleModel(vehicle, track, 30.0, 0.002, 50.0)
+    straight = model.kernel
+    curved = straight._replace(curved=True, body_slots=np.zeros(0, dtype=np.int64))
+    q0 = model.mbs.systemData.GetODE2Coordinates()[model.object_ltg]
+    qt0 = model.mbs.systemData.GetODE2Coordinates_t()[model.object_ltg]
+    rng = np.random.default_rng(3)
+    n = q0.size
+    for _ in range(20):
+        q = q0 + rng.normal(0.0, 1e-4, n)
+        qt = qt0 + rng.normal(0.0, 1e-2, n)
+        out = []
+        for data in (straight, curved):
+            f = np.zeros(n)
+            jac = np.zeros((n, n))
+            pts = np.zeros_like(model.points)
+            wsf = np.zeros_like(model.ws_force)
+            generalized_forces(q, qt, data, f, pts, wsf)
+            jacobian(q, qt, data, 1.0, 0.01, jac, pts.copy(), wsf.copy())
+            out.append((f, jac))
+        # rounding: the curved path subtracts and adds back the frame's distance (~10 m)
+        np.testing.assert_allclose(out[1][0], out[0][0], rtol=1e-6, atol=1e-3)
+        np.testing.assert_allclose(out[1][1], out[0][1], rtol=1e-3, atol=1e2)
