@@ -292,24 +292,24 @@ def test_curved_track_formulation_reduces_to_straight_track():
 
 
 def test_a_curve_turning_beyond_90_degrees_keeps_the_force_balance():
-    """R 300 m over 560 m turns the track by 111 degrees, past the heading where absolute
+    """R 1000 m over 1960 m turns the track by 114 degrees, past the heading where absolute
     Tait-Bryan wheelset nodes would be singular: in trajectory coordinates nothing changes
     there. The force balance of the steady curve holds within 1 % both before (heading 40 to
     70 degrees) and after 95 degrees, and the leading wheelset's quasi-static lateral position
-    is the same in both parts (0.05 mm: the remaining sway)."""
+    is the same in both parts (0.05 mm: the remaining sway). (A tighter curve with the EU07
+    meets the Newton failure at the S1002/60E1 contact jump described in docs/curving.md.)"""
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
-    track = _curve_track(300.0, 0.15, 560.0, 40.0)
-    speed = 20.0
-    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=590.0,
+    radius, cant, speed = 1000.0, 0.1, 30.0
+    track = _curve_track(radius, cant, 1960.0, 60.0)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=1990.0,
                                              initial_lateral_m=0.0))  # fmt: skip
     assert result.status["state"] == "completed"
     ts = result.timeseries
-    alignment = track.alignment
-    heading = np.degrees(alignment.heading(ts["ws4_s_m"]))
-    assert heading.max() > 100.0
+    heading = np.degrees(track.alignment.heading(ts["ws4_s_m"]))
+    assert heading.max() > 110.0
     mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
-    phi = math.asin(0.15 / 1.5)
-    expected = mass * (speed**2 / 300.0 * math.cos(phi) - G * math.sin(phi))
+    phi = math.asin(cant / 1.5)
+    expected = mass * (speed**2 / radius * math.cos(phi) - G * math.sin(phi))
     sum_y = _sum(ts, "Y_N", 4)
     early = (heading > 40.0) & (heading < 70.0)
     late = heading > 95.0
