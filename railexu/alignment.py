@@ -67,7 +67,15 @@ _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(32)
 
 #: Columns of :meth:`Alignment.table` (what the compiled kernel interpolates).
 TAB_X, TAB_Y, TAB_PSI, TAB_KAPPA, TAB_CANT, TAB_DKAPPA, TAB_DCANT = range(7)
-TAB_COLUMNS = 7
+#: The vehicle frame's roll: the cant angle smoothed along the track, and its derivatives.
+TAB_FROLL, TAB_DFROLL, TAB_DDFROLL = range(7, 10)
+TAB_COLUMNS = 10
+#: Smoothing length (Gaussian standard deviation) of the vehicle frame's roll [m].
+FRAME_ROLL_SMOOTHING_M = 5.0
+#: Rounding of the kinks of the cant under the wheels (Gaussian standard deviation) [m]: a rail
+#: cannot follow a kink of its height over less than about its bending length (of the order of
+#: a metre for a UIC60 rail on ballast; Knothe & Grassie 1993).
+CANT_ROUNDING_M = 1.0
 
 
 @dataclass(frozen=True)
@@ -228,9 +236,24 @@ class Alignment:
         psi = self.psi0[i] + self._heading_increment(i, uc)
         return x + extra * np.cos(psi), y + extra * np.sin(psi)
 
-    def table(self, s_min: float, s_max: float, step: float = 0.25):
+    def table(
+        self,
+        s_min: float,
+        s_max: float,
+        step: float = 0.25,
+        smoothing_m: float = FRAME_ROLL_SMOOTHING_M,
+        rounding_m: float = CANT_ROUNDING_M,
+    ):
         """Samples for the compiled kernel: ``(start, step, values)`` with ``values`` of shape
-        ``(n, TAB_COLUMNS)`` (columns ``TAB_*``), from ``s_min`` to at least ``s_max``."""
+        ``(n, TAB_COLUMNS)`` (columns ``TAB_*``), from ``s_min`` to at least ``s_max``.
+
+        The vehicle frame's roll (``TAB_FROLL`` and its first and second derivatives) is the
+        cant angle smoothed by a Gaussian of ``smoothing_m``: the frame need not follow the cant
+        exactly (the contact uses the local cant), and a smooth roll keeps the frame's angular
+        acceleration finite where a linear cant ramp has a kink. The cant the wheels see is
+        rounded at such kinks by a Gaussian of ``rounding_m`` (``TAB_CANT``, ``TAB_DCANT``)."""
+        from scipy.ndimage import gaussian_filter1d
+
         n = int(math.ceil((s_max - s_min) / step)) + 2
         s = s_min + step * np.arange(n)
         values = np.zeros((n, TAB_COLUMNS))
@@ -240,6 +263,17 @@ class Alignment:
         values[:, TAB_CANT] = self.cant_angle(s)
         values[:, TAB_DKAPPA] = self.curvature_slope(s)
         values[:, TAB_DCANT] = self.cant_angle_slope(s)
+        if rounding_m > 0.0:
+            values[:, TAB_CANT] = gaussian_filter1d(
+                values[:, TAB_CANT], rounding_m / step, mode="nearest"
+            )
+            values[:, TAB_DCANT] = np.gradient(values[:, TAB_CANT], step)
+        roll = values[:, TAB_CANT]
+        if smoothing_m > 0.0:
+            roll = gaussian_filter1d(roll, smoothing_m / step, mode="nearest")
+        values[:, TAB_FROLL] = roll
+        values[:, TAB_DFROLL] = np.gradient(roll, step)
+        values[:, TAB_DDFROLL] = np.gradient(values[:, TAB_DFROLL], step)
         return float(s_min), float(step), np.ascontiguousarray(values)
 
     def constant_curves(self) -> list[DesignSection]:

@@ -39,7 +39,18 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .alignment import TAB_CANT, TAB_DCANT, TAB_DKAPPA, TAB_KAPPA, TAB_PSI, TAB_X, TAB_Y
+from .alignment import (
+    TAB_CANT,
+    TAB_DCANT,
+    TAB_DDFROLL,
+    TAB_DFROLL,
+    TAB_DKAPPA,
+    TAB_FROLL,
+    TAB_KAPPA,
+    TAB_PSI,
+    TAB_X,
+    TAB_Y,
+)
 from .contact import kernel as K
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
@@ -200,6 +211,29 @@ def _align_at(d, s):
     return x, y, psi, kappa, cant, dkappa, dcant, ddcant
 
 
+@numba.njit(inline="always", **_JIT)
+def _frame_roll_at(d, s):
+    """The vehicle frame's roll at distance ``s`` and its first and second derivatives along
+    the track (linear between samples)."""
+    tab = d.align
+    n = tab.shape[0]
+    u = (s - d.align_start) / d.align_step
+    if u < 0.0:
+        u = 0.0
+    if u > n - 1.0:
+        u = n - 1.0
+    i = int(u)
+    if i >= n - 1:
+        i = n - 2
+    t = u - i
+    a = 1.0 - t
+    return (
+        a * tab[i, TAB_FROLL] + t * tab[i + 1, TAB_FROLL],
+        a * tab[i, TAB_DFROLL] + t * tab[i + 1, TAB_DFROLL],
+        a * tab[i, TAB_DDFROLL] + t * tab[i + 1, TAB_DDFROLL],
+    )
+
+
 @numba.njit(**_JIT)
 def frame_motion(d, out):
     """Motion of the vehicle frame into ``out`` (12 entries): heading, cant roll, angular
@@ -207,14 +241,16 @@ def frame_motion(d, out):
     (y, z) and gravity in frame axes (y, z).
 
     The frame's origin runs along the centre line at the top of rail at speed ``V``; its
-    orientation is ``Rz(psi(s_F)) Rx(phi(s_F))``: the track's heading and cant roll there, so
-    that the suspension elements, which act along the frame's axes, act along the canted track
-    axes as on straight track.
+    orientation is ``Rz(psi(s_F)) Rx(phi(s_F))``: the track's heading and its cant roll there
+    (smoothed along the track, :meth:`railexu.alignment.Alignment.table`), so that the
+    suspension elements, which act along the frame's axes, act along the canted track axes as
+    on straight track.
     """
     s_f = d.frame[FR_S]
     v = d.frame[FR_V]
     vd = d.frame[FR_VDOT]
-    _, _, psi, kappa, phi, dkappa, dphi, ddphi = _align_at(d, s_f)
+    _, _, psi, kappa, _, dkappa, _, _ = _align_at(d, s_f)
+    phi, dphi, ddphi = _frame_roll_at(d, s_f)
     cp, sp = math.cos(phi), math.sin(phi)
     psi_d = v * kappa
     psi_dd = vd * kappa + v * v * dkappa
@@ -245,7 +281,8 @@ def track_position(d, rx, ry, rz):
     frame)``, lateral offset and height in the horizontal plane of the foot point. Newton's
     method on the along-track distance (2-3 iterations)."""
     s_f = d.frame[FR_S]
-    xf, yf, psif, _, phif, _, _, _ = _align_at(d, s_f)
+    xf, yf, psif, _, _, _, _, _ = _align_at(d, s_f)
+    phif = _frame_roll_at(d, s_f)[0]
     cx, sx = math.cos(phif), math.sin(phif)
     yh = cx * ry - sx * rz
     zh = sx * ry + cx * rz
