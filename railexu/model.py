@@ -1,6 +1,6 @@
 """Build the Exudyn multibody system of a vehicle on a track.
 
-Design (measured in ``../shared/reference/exudyn-notes.md`` and ``docs/dev/exudyn-api.md``):
+Design (measured in ``docs/dev/exudyn-api.md``):
 
 - every body and wheelset is an Exudyn rigid body on a ``NodeRigidBodyRxyz`` node (Tait-Bryan
   angles); a wheelset's axle is its body's third axis, so its spin is the last angle, the contact
@@ -14,25 +14,32 @@ Design (measured in ``../shared/reference/exudyn-notes.md`` and ``docs/dev/exudy
   Jacobian, creep damping included;
 - a velocity-level coordinate constraint holds the forward speed of one body (the car body by
   default): the traction needed to run at constant speed;
-- the vehicle runs in absolute coordinates along the track's x axis (curved track can follow
-  without changing this), wheelsets spinning freely under their creep forces.
+- the coordinates are those of a vehicle frame that runs along the track's centre line with
+  the speed body and turns with the track's heading (:mod:`railexu.forces`, ``docs/curving.md``):
+  the first coordinate of a node is the distance along the track, the others its lateral and
+  vertical position and its angles relative to the local track direction, so no angle grows with
+  the heading (a 300 m curve over 600 m turns the track by 115 degrees; the Tait-Bryan angles stay
+  small) and the frame's inertial forces are added in the compiled force function; on straight
+  track the frame does not turn and these are exactly the absolute coordinates;
+- wheelsets spin freely under their creep forces.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
+from .alignment import Alignment, straight_alignment
 from .contact import kernel as K
 from .contact.evaluation import WheelsetContactModel, rail_arrays, wheel_arrays
 from .contact.hertz import hertz_table
 from .contact.kalker import kalker_table_for_poisson
 from .contact.placement import WheelsetGeometry, symmetric_wheelset
+from .contact.placement import wheelset_geometry as placed_wheelset
 from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
 from .errors import InputError
-from .forces import BS_NREAL, generalized_forces, jacobian
+from .forces import BS_NREAL, FR_SIZE, WL_SIZE, KernelData, generalized_forces, jacobian
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset
@@ -43,30 +50,32 @@ START_MARGIN_M = 1.0
 
 def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
     """The wheelset's wheel profiles placed on the track's rails (gauge, inclination, flange-back
-    distance, nominal rolling radius), with the contact tables of both wheels."""
-    return symmetric_wheelset(
-        wheelset.wheel_profile,
-        track.rail_profile,
-        nominal_radius_m=wheelset.nominal_radius_m,
+    distance, nominal rolling radius; a profile and a radius per wheel when the wheelset is not
+    symmetric), with the contact tables of both wheels."""
+    common = dict(
         inclination=track.inclination,
         gauge_m=track.gauge_m,
         flange_back_distance_m=wheelset.flange_back_distance_m,
+    )
+    if wheelset.symmetric:
+        return symmetric_wheelset(
+            wheelset.wheel_profile,
+            track.rail_profile,
+            nominal_radius_m=wheelset.nominal_radius_m,
+            **common,
+        )
+    return placed_wheelset(
+        {"left": wheelset.wheel_profile, "right": wheelset.wheel_profile_right},
+        track.rail_profile,
+        nominal_radius_m={"left": wheelset.nominal_radius_m,
+                          "right": wheelset.nominal_radius_right_m},  # fmt: skip
+        **common,
     )
 
 
 class ModelError(InputError):
     """A vehicle/track combination that cannot be built (e.g. a wheel that cannot carry its
     load)."""
-
-
-@dataclass
-class ModelLayout:
-    """Everything the simulation needs to read the model's state and compute outputs."""
-
-    wheelset_nodes: list[int]
-    body_nodes: dict[str, int]
-    ode2_index: dict[int, np.ndarray] = field(default_factory=dict)  # node -> global coordinates
-    x_start_m: float = 0.0
 
 
 class VehicleModel:
@@ -79,6 +88,8 @@ class VehicleModel:
         initial_lateral_m: lateral offset of the whole vehicle at the start [m] (the seed's
             initial excursion).
         distance_m: distance the run will cover (sizes the irregularity record) [m].
+        deceleration_m_per_s2: constant deceleration of the speed (the frame's motion along the
+            track follows it; :class:`railexu.run_settings.RunSettings`).
     """
 
     def __init__(
@@ -88,6 +99,7 @@ class VehicleModel:
         speed_m_per_s: float,
         initial_lateral_m: float = 0.0,
         distance_m: float = 100.0,
+        deceleration_m_per_s2: float = 0.0,
     ) -> None:
         import exudyn as exu
 
@@ -98,6 +110,9 @@ class VehicleModel:
         self.speed = float(speed_m_per_s)
         self.initial_lateral_m = float(initial_lateral_m)
         self.distance_hint = float(distance_m)
+        self.deceleration = float(deceleration_m_per_s2)
+        self.alignment: Alignment = getattr(track, "alignment", None) or straight_alignment()
+        self.curved = not self.alignment.is_straight
         self.contact_params = vehicle.contact
         self.params = vehicle.contact.kernel_vector(self.speed)
 
@@ -181,173 +196,199 @@ class VehicleModel:
 
     # ------------------------------------------------------------------------------------------
     def _build(self) -> None:
-        import exudyn as exu
-        from exudyn.itemInterface import (
-            LoadForceVector,
-            MarkerBodyPosition,
-            MarkerBodyRigid,
-            MarkerNodeCoordinate,
-            NodePointGround,
-            ObjectConnectorCartesianSpringDamper,
-            ObjectConnectorCoordinate,
-            ObjectConnectorRigidBodySpringDamper,
-            ObjectGenericODE2,
-        )
-        from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixX
-
-        mbs = self.mbs
+        """The Exudyn system in named steps: bodies, wheelsets, suspension, loads, the contact
+        element (with the sampled track), the speed constraint."""
         veh = self.vehicle
-        V = self.speed
-        y0 = self.initial_lateral_m
-        g = veh.gravity_m_per_s2
-        x_start = START_MARGIN_M - min(w.position_x_m for w in veh.wheelsets)
-        self.x_start_m = x_start
-
-        # positions (global, initial) and reference rotations of every body
+        self.x_start_m = START_MARGIN_M - min(w.position_x_m for w in veh.wheelsets)
+        speed_body = next((b for b in veh.bodies if b.name == veh.speed_body), None)
+        x_speed = (
+            speed_body.position_m[0]
+            if speed_body is not None
+            else next(w.position_x_m for w in veh.wheelsets if w.name == veh.speed_body)
+        )
+        #: distance along the track of the vehicle frame's origin at t = 0 [m]
+        self.frame_start_m = self.x_start_m + x_speed
         self.centre: dict[str, np.ndarray] = {}
         self.rotation: dict[str, np.ndarray] = {}
         self.node: dict[str, int] = {}
         self.body: dict[str, int] = {}
-        for b in veh.bodies:
-            c = np.array([x_start + b.position_m[0], b.position_m[1] + y0, b.position_m[2]])
-            res = mbs.CreateRigidBody(
-                inertia=RigidBodyInertia(b.mass_kg, np.diag(b.inertia_kg_m2)),
-                nodeType=exu.NodeType.RotationRxyz,
-                referencePosition=list(c),
-                referenceRotationMatrix=np.eye(3),
-                initialVelocity=[V, 0.0, 0.0],
-                gravity=[0.0, 0.0, -g],
-                returnDict=True,
-            )
-            self.centre[b.name] = c
-            self.rotation[b.name] = np.eye(3)
-            self.node[b.name] = res["nodeNumber"]
-            self.body[b.name] = res["bodyNumber"]
+        self.inertia: dict[str, tuple[float, np.ndarray]] = {}
+        self._add_bodies()
+        self._add_wheelsets()
+        self._add_suspension()
+        self._add_loads()
+        self._sample_track()
+        self._add_rail_masses()
+        self._add_contact_element()
+        self._add_speed_constraint()
+        self.mbs.Assemble()
+        self.ltg = {
+            name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
+            for name, n in self.node.items()
+        }
+        self.rail_ltg = {
+            name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
+            for name, n in self.rail_node.items()
+        }
+        rail_of = {n: name for name, n in self.rail_node.items()}
+        self.object_ltg = np.concatenate(
+            [self.rail_ltg[rail_of[n]] if n in rail_of else self.ltg[self._name_of(n)]
+             for n in self.ode_nodes]
+        )  # fmt: skip
+
+    def _centre_line_offset(self, x: float) -> float:
+        """Lateral position of the track centre line in the vehicle frame at the start, at the
+        distance ``x`` along the track [m] (zero on straight track)."""
+        if not self.curved:
+            return 0.0
+        a = self.alignment
+        s0 = self.frame_start_m
+        x0, y0 = a.position(s0)
+        x1, y1 = a.position(x)
+        psi = float(a.heading(s0))
+        return float(-(x1 - x0) * math.sin(psi) + (y1 - y0) * math.cos(psi))
+
+    def _add_rigid_body(self, name, mass, inertia, centre, rotation, velocities=None) -> None:
+        import exudyn as exu
+        from exudyn.rigidBodyUtilities import RigidBodyInertia
+
+        res = self.mbs.CreateRigidBody(
+            inertia=RigidBodyInertia(mass, np.diag(inertia)),
+            nodeType=exu.NodeType.RotationRxyz,
+            referencePosition=list(centre),
+            referenceRotationMatrix=rotation,
+            initialVelocity=[self.speed, 0.0, 0.0],
+            gravity=[0.0, 0.0, -self.vehicle.gravity_m_per_s2],
+            returnDict=True,
+        )
+        if velocities is not None:
+            self.mbs.SetNodeParameter(res["nodeNumber"], "initialVelocities", velocities)
+        self.centre[name] = centre
+        self.rotation[name] = np.asarray(rotation)
+        self.node[name] = res["nodeNumber"]
+        self.body[name] = res["bodyNumber"]
+        self.inertia[name] = (float(mass), np.asarray(inertia, dtype=float))
+
+    def _add_bodies(self) -> None:
+        """Car bodies and bogie frames at their nominal positions (plus the initial offset)."""
+        y0 = self.initial_lateral_m
+        for b in self.vehicle.bodies:
+            x = self.x_start_m + b.position_m[0]
+            y = b.position_m[1] + y0 + self._centre_line_offset(x)
+            c = np.array([x, y, b.position_m[2]])
+            self._add_rigid_body(b.name, b.mass_kg, b.inertia_kg_m2, c, np.eye(3))
+
+    def _add_wheelsets(self) -> None:
+        """Wheelsets pressed onto the rails, spinning at their free-rolling rate; the axle is
+        the body's third axis (spin is the last angle)."""
+        from exudyn.rigidBodyUtilities import RotationMatrixX
+
+        V = self.speed
         for ws, st, spin_rate in zip(
-            veh.wheelsets, self.initial_wheelsets, self.initial_spin_rates, strict=True
+            self.vehicle.wheelsets, self.initial_wheelsets, self.initial_spin_rates, strict=True
         ):
-            c = np.array([x_start + ws.position_x_m, st.lateral_m, st.vertical_m])
+            x = self.x_start_m + ws.position_x_m
+            c = np.array([x, st.lateral_m + self._centre_line_offset(x), st.vertical_m])
             rot = RotationMatrixX(st.roll_rad - 0.5 * math.pi)
-            res = mbs.CreateRigidBody(
-                inertia=RigidBodyInertia(ws.mass_kg, np.diag(ws.inertia_kg_m2)),
-                nodeType=exu.NodeType.RotationRxyz,
-                referencePosition=list(c),
-                referenceRotationMatrix=rot,
-                initialVelocity=[V, 0.0, 0.0],
-                gravity=[0.0, 0.0, -g],
-                returnDict=True,
-            )
-            n = res["nodeNumber"]
             # free rolling: the spin at which the wheelset carries no longitudinal creep force
-            mbs.SetNodeParameter(n, "initialVelocities", [V, 0, 0, 0, 0, spin_rate])
-            self.centre[ws.name] = c
-            self.rotation[ws.name] = np.asarray(rot)
-            self.node[ws.name] = n
-            self.body[ws.name] = res["bodyNumber"]
-        wheelset_names = [w.name for w in veh.wheelsets]
+            self._add_rigid_body(
+                ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate]
+            )
 
-        def local_point(body: str, p_vehicle) -> tuple[np.ndarray, np.ndarray]:
-            """(local position on the body, initial global position) of an attachment."""
-            p = attachment_point(veh, body, p_vehicle)
-            if body in wheelset_names:
-                local = np.array([0.0, 0.0, p[1]])  # on the axle (body z)
-            else:
-                local = np.array([p[0], p[1], p[2]]) - np.asarray(
-                    next(b.position_m for b in veh.bodies if b.name == body)
-                )
-            glob = self.centre[body] + self.rotation[body] @ local
-            return local, glob
+    def _local_point(self, body: str, p_vehicle) -> tuple[np.ndarray, np.ndarray]:
+        """(local position on the body, initial global position) of an attachment point."""
+        veh = self.vehicle
+        p = attachment_point(veh, body, p_vehicle)
+        if body in {w.name for w in veh.wheelsets}:
+            local = np.array([0.0, 0.0, p[1]])  # on the axle (body z)
+        else:
+            local = np.array([p[0], p[1], p[2]]) - np.asarray(
+                next(b.position_m for b in veh.bodies if b.name == body)
+            )
+        return local, self.centre[body] + self.rotation[body] @ local
 
-        # suspension
+    def _add_suspension(self) -> None:
+        """Linear springs and dampers as Exudyn connectors preloaded with their static forces;
+        bump stops are collected for the compiled force function."""
         self.bump_stops: list[tuple] = []
-        for el in veh.suspension:
-            a, b = el.bodies
-            la, ga = local_point(a, el.position_m)
-            lb, gb = local_point(b, el.position_m)
+        for el in self.vehicle.suspension:
             if isinstance(el, SpringDamper):
-                ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[a], localPosition=la))
-                mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[b], localPosition=lb))
-                k = np.asarray(el.stiffness_N_per_m)
-                f_b = np.asarray(self.statics.element_forces[el.name])
-                offset = gb - ga
-                nz = k > 0.0
-                offset[nz] += f_b[nz] / k[nz]
-                mbs.AddObject(
-                    ObjectConnectorCartesianSpringDamper(
-                        markerNumbers=[ma, mb],
-                        stiffness=list(k),
-                        damping=list(el.damping_N_s_per_m),
-                        offset=list(offset),
-                    )
-                )
+                self._add_spring_damper(el)
             elif isinstance(el, TorsionSpring):
-                if a in wheelset_names or b in wheelset_names:
-                    raise ModelError(f"torsion spring {el.name}: cannot act on a spinning wheelset")
-                ma = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[a], localPosition=la))
-                mb = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[b], localPosition=lb))
-                axis = "xyz".index(el.axis)
-                stiff = np.zeros((6, 6))
-                damp = np.zeros((6, 6))
-                stiff[3 + axis, 3 + axis] = el.stiffness_N_m_per_rad
-                damp[3 + axis, 3 + axis] = el.damping_N_m_s_per_rad
-                offset = np.zeros(6)
-                if el.stiffness_N_m_per_rad > 0.0:
-                    offset[3 + axis] = self.statics.element_forces[el.name] / (
-                        el.stiffness_N_m_per_rad
-                    )
-                mbs.AddObject(
-                    ObjectConnectorRigidBodySpringDamper(
-                        markerNumbers=[ma, mb],
-                        stiffness=stiff,
-                        damping=damp,
-                        offset=list(offset),
-                    )
-                )
+                self._add_torsion_spring(el)
             elif isinstance(el, BumpStop):
+                a, b = el.bodies
+                la, ga = self._local_point(a, el.position_m)
+                lb, gb = self._local_point(b, el.position_m)
                 axis = "xyz".index(el.direction)
                 self.bump_stops.append((a, b, la, lb, axis, el, float(gb[axis] - ga[axis])))
 
-        # external loads
-        for load in veh.loads:
-            local, _ = local_point(load.body, load.position_m)
-            m = mbs.AddMarker(
+    def _add_spring_damper(self, el: SpringDamper) -> None:
+        from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper
+
+        mbs = self.mbs
+        a, b = el.bodies
+        la, ga = self._local_point(a, el.position_m)
+        lb, gb = self._local_point(b, el.position_m)
+        ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[a], localPosition=la))
+        mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[b], localPosition=lb))
+        k = np.asarray(el.stiffness_N_per_m)
+        f_b = np.asarray(self.statics.element_forces[el.name])
+        offset = gb - ga
+        nz = k > 0.0
+        offset[nz] += f_b[nz] / k[nz]
+        mbs.AddObject(
+            ObjectConnectorCartesianSpringDamper(
+                markerNumbers=[ma, mb],
+                stiffness=list(k),
+                damping=list(el.damping_N_s_per_m),
+                offset=list(offset),
+            )
+        )
+
+    def _add_torsion_spring(self, el: TorsionSpring) -> None:
+        from exudyn.itemInterface import MarkerBodyRigid, ObjectConnectorRigidBodySpringDamper
+
+        mbs = self.mbs
+        a, b = el.bodies
+        if {a, b} & {w.name for w in self.vehicle.wheelsets}:
+            raise ModelError(f"torsion spring {el.name}: cannot act on a spinning wheelset")
+        la, _ = self._local_point(a, el.position_m)
+        lb, _ = self._local_point(b, el.position_m)
+        ma = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[a], localPosition=la))
+        mb = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[b], localPosition=lb))
+        axis = "xyz".index(el.axis)
+        stiff = np.zeros((6, 6))
+        damp = np.zeros((6, 6))
+        stiff[3 + axis, 3 + axis] = el.stiffness_N_m_per_rad
+        damp[3 + axis, 3 + axis] = el.damping_N_m_s_per_rad
+        offset = np.zeros(6)
+        if el.stiffness_N_m_per_rad > 0.0:
+            offset[3 + axis] = self.statics.element_forces[el.name] / el.stiffness_N_m_per_rad
+        mbs.AddObject(
+            ObjectConnectorRigidBodySpringDamper(
+                markerNumbers=[ma, mb], stiffness=stiff, damping=damp, offset=list(offset)
+            )
+        )
+
+    def _add_loads(self) -> None:
+        from exudyn.itemInterface import LoadForceVector, MarkerBodyPosition
+
+        for load in self.vehicle.loads:
+            local, _ = self._local_point(load.body, load.position_m)
+            m = self.mbs.AddMarker(
                 MarkerBodyPosition(bodyNumber=self.body[load.body], localPosition=local)
             )
-            mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=list(load.force_N)))
+            self.mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=list(load.force_N)))
 
-        # contact (and bump stop) generalized forces
-        ode_nodes = [self.node[n] for n in wheelset_names]
-        for a, b, *_ in self.bump_stops:
-            for name in (a, b):
-                if self.node[name] not in ode_nodes:
-                    ode_nodes.append(self.node[name])
-        self.ode_nodes = ode_nodes
-        slot = {node: i for i, node in enumerate(ode_nodes)}
-        self.ws_slots = np.array([slot[self.node[n]] for n in wheelset_names], dtype=np.int64)
-        self.qref = np.concatenate(
-            [np.asarray(mbs.GetNodeParameter(n, "referenceCoordinates"), float) for n in ode_nodes]
-        )
-        self.bs_int = np.zeros((len(self.bump_stops), 4), dtype=np.int64)
-        self.bs_real = np.zeros((len(self.bump_stops), BS_NREAL))
-        for i, (a, b, la, lb, axis, el, d0) in enumerate(self.bump_stops):
-            self.bs_int[i] = [slot[self.node[a]], slot[self.node[b]], 0, 0]
-            self.bs_real[i, 0:3] = la
-            self.bs_real[i, 3:6] = lb
-            self.bs_real[i, 6] = axis
-            self.bs_real[i, 7] = el.clearance_m
-            self.bs_real[i, 8] = el.stiffness_N_per_m
-            self.bs_real[i, 9] = el.damping_N_s_per_m
-            self.bs_real[i, 10] = d0
-        n_coords = 6 * len(ode_nodes)
-        self._out = np.zeros(n_coords)
-        n_ws = len(wheelset_names)
-        self.points = np.zeros((n_ws, 2, K.MAX_POINTS, K.N_POINT_FIELDS))
-        self.ws_force = np.zeros((n_ws, 6))
+    def _sample_track(self) -> None:
+        """Irregularities and design geometry sampled along the whole run.
 
-        # irregularities, sampled along the whole run; their distance 0 is where the leading
-        # wheelset starts, so that every wheelset starts on undisturbed rails (the static state
-        # it was pressed into) and meets the faded-in irregularities as it runs
-        x_lead = x_start + max(w.position_x_m for w in veh.wheelsets)
+        The irregularities' distance 0 is where the leading wheelset starts, so that every
+        wheelset starts on undisturbed rails (the static state it was pressed into) and meets
+        the faded-in irregularities as it runs."""
+        veh = self.vehicle
+        x_lead = self.x_start_m + max(w.position_x_m for w in veh.wheelsets)
         self.irregularity_origin_m = x_lead
         self.irregularities = self.track.irregularities(self.distance_hint + 20.0)
         sampled = self.irregularities.sampled(0.05)
@@ -355,14 +396,86 @@ class VehicleModel:
         self.irr_step = sampled.step_m
         self.irr_values = np.ascontiguousarray(sampled.values)
         self.irr_slopes = np.ascontiguousarray(sampled.slopes)
+        length = max(self.vehicle_length_m(), 1.0)
+        self.align_sampled = self.alignment.table(
+            -length - 10.0, self.x_start_m + self.distance_hint + 2.0 * length + 20.0
+        )
 
-        args = self.kernel_args()
+    def vehicle_length_m(self) -> float:
+        """Longitudinal extent of the bodies' and wheelsets' centres [m]."""
+        xs = [b.position_m[0] for b in self.vehicle.bodies]
+        xs += [w.position_x_m for w in self.vehicle.wheelsets]
+        return float(max(xs) - min(xs))
+
+    def _add_rail_masses(self) -> None:
+        """Elastic track: under each wheelset a node of 4 coordinates (left rail lateral and
+        vertical, right rail lateral and vertical, track frame) with the co-running rail mass,
+        stiffness and damping to the ground (:mod:`railexu.track_model`)."""
+        from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2
+
+        self.rail_node: dict[str, int] = {}
+        et = getattr(self.track, "elastic", None)
+        if et is None:
+            return
+        mass = np.eye(4) * et.rail_mass_kg
+        k_y, k_z = et.lateral_stiffness_N_per_m, et.vertical_stiffness_N_per_m
+        c_y, c_z = et.lateral_damping_N_s_per_m, et.vertical_damping_N_s_per_m
+        stiffness = np.diag([k_y, k_z, k_y, k_z])
+        damping = np.diag([c_y, c_z, c_y, c_z])
+        for ws in self.wheelset_names():
+            n = self.mbs.AddNode(
+                NodeGenericODE2(
+                    referenceCoordinates=[0.0] * 4,
+                    initialCoordinates=[0.0] * 4,
+                    initialCoordinates_t=[0.0] * 4,
+                    numberOfODE2Coordinates=4,
+                )
+            )
+            self.mbs.AddObject(
+                ObjectGenericODE2(
+                    nodeNumbers=[n], massMatrix=mass, stiffnessMatrix=stiffness,
+                    dampingMatrix=damping,
+                )
+            )  # fmt: skip
+            self.rail_node[ws] = n
+
+    def wheelset_names(self) -> list[str]:
+        """Names of the wheelsets in the vehicle file's order."""
+        return [w.name for w in self.vehicle.wheelsets]
+
+    def _add_contact_element(self) -> None:
+        """One ObjectGenericODE2 over the wheelsets (and the bodies joined by bump stops; on
+        curved track all bodies, for the frame's inertial forces) with the compiled forces."""
+        from exudyn.itemInterface import ObjectGenericODE2
+
+        mbs = self.mbs
+        wheelset_names = [w.name for w in self.vehicle.wheelsets]
+        ode_nodes = [self.node[n] for n in wheelset_names]
+        extra = [n for a, b, *_ in self.bump_stops for n in (a, b)]
+        if self.curved:
+            extra += list(self.node)
+        for name in extra:
+            if self.node[name] not in ode_nodes:
+                ode_nodes.append(self.node[name])
+        slot = {node: i for i, node in enumerate(ode_nodes)}
+        n_coords = 6 * len(ode_nodes) + 4 * len(self.rail_node)
+        ode_nodes += [self.rail_node[n] for n in wheelset_names if n in self.rail_node]
+        self.ode_nodes = ode_nodes
+        self._out = np.zeros(n_coords)
+        n_ws = len(wheelset_names)
+        self.points = np.zeros((n_ws, 2, K.MAX_POINTS, K.N_POINT_FIELDS))
+        self.ws_force = np.zeros((n_ws, 6))
+        self.kernel = self._kernel_data(slot)
+        data = self.kernel
         out = self._out
         points = self.points
         ws_force = self.ws_force
+        set_time = self.set_time if self.curved else None
 
         def contact_forces(mbs_, t, item, q, q_t):
-            generalized_forces(np.array(q), np.array(q_t), *args, out, points, ws_force)
+            if set_time is not None:
+                set_time(t)
+            generalized_forces(np.array(q), np.array(q_t), data, out, points, ws_force)
             return out
 
         jac = np.zeros((n_coords, n_coords))
@@ -370,7 +483,9 @@ class VehicleModel:
         jac_force = np.zeros_like(ws_force)
 
         def contact_jacobian(mbs_, t, item, q, q_t, f_q, f_v):
-            jacobian(np.array(q), np.array(q_t), *args, f_q, f_v, jac, jac_points, jac_force)
+            if set_time is not None:
+                set_time(t)
+            jacobian(np.array(q), np.array(q_t), data, f_q, f_v, jac, jac_points, jac_force)
             return jac
 
         self._user_function = contact_forces
@@ -384,19 +499,78 @@ class VehicleModel:
             )
         )
 
-        # constant forward speed of one body
+    def _kernel_data(self, slot: dict[int, int]) -> KernelData:
+        """The named inputs of the compiled force functions."""
+        mbs = self.mbs
+        wheelset_names = [w.name for w in self.vehicle.wheelsets]
+        qref = np.concatenate(
+            [np.asarray(mbs.GetNodeParameter(n, "referenceCoordinates"), float)
+             for n in self.ode_nodes]
+        )  # fmt: skip
+        bs_int = np.zeros((len(self.bump_stops), 4), dtype=np.int64)
+        bs_real = np.zeros((len(self.bump_stops), BS_NREAL))
+        for i, (a, b, la, lb, axis, el, d0) in enumerate(self.bump_stops):
+            bs_int[i] = [slot[self.node[a]], slot[self.node[b]], 0, 0]
+            bs_real[i, 0:3] = la
+            bs_real[i, 3:6] = lb
+            bs_real[i, 6] = axis
+            bs_real[i, 7] = el.clearance_m
+            bs_real[i, 8] = el.stiffness_N_per_m
+            bs_real[i, 9] = el.damping_N_s_per_m
+            bs_real[i, 10] = d0
+        names = list(self.node) if self.curved else []
+        n_rigid = len(slot)
+        rail_index = np.array(
+            [6 * n_rigid + 4 * i for i in range(len(self.rail_node))], dtype=np.int64
+        )
+        frame = np.zeros(FR_SIZE)
+        frame[:] = [self.frame_start_m, self.speed, -self.deceleration,
+                    0.5 * self.alignment.cant_base_m, self.vehicle.gravity_m_per_s2]  # fmt: skip
+        align_start, align_step, align = self.align_sampled
+        return KernelData(
+            qref=qref,
+            ws_slots=np.array([slot[self.node[n]] for n in wheelset_names], dtype=np.int64),
+            wtab=self.wtab, winfo=self.winfo, rtab=self.rtab, rinfo=self.rinfo, htab=self.htab,
+            ktab=self.ktab, params=self.params,
+            irr_start=float(self.irr_start), irr_step=float(self.irr_step),
+            irr_values=self.irr_values, irr_slopes=self.irr_slopes,
+            bs_int=bs_int, bs_real=bs_real,
+            curved=bool(self.curved), align_start=align_start, align_step=align_step,
+            align=align, frame=frame,
+            body_slots=np.array([slot[self.node[n]] for n in names], dtype=np.int64),
+            body_mass=np.array([self.inertia[n][0] for n in names], dtype=float),
+            body_inertia=np.array([self.inertia[n][1] for n in names], dtype=float).reshape(-1, 3),
+            ws_local=np.zeros((len(wheelset_names), WL_SIZE)),
+            rail_index=rail_index,
+            rail_preload=np.ascontiguousarray(self.statics.wheel_loads_N, dtype=float),
+        )  # fmt: skip
+
+    def set_time(self, t: float) -> None:
+        """Move the vehicle frame to time ``t`` (distance, speed and acceleration along the
+        track of the speed body's nominal motion)."""
+        a = self.deceleration
+        frame = self.kernel.frame
+        frame[0] = self.frame_start_m + self.speed * t - 0.5 * a * t * t
+        frame[1] = self.speed - a * t
+
+    def _add_speed_constraint(self) -> None:
+        """Constant forward speed of one body: a velocity-level constraint on its first
+        coordinate (distance along the track), whose force is the traction."""
+        from exudyn.itemInterface import (
+            MarkerNodeCoordinate,
+            NodePointGround,
+            ObjectConnectorCoordinate,
+        )
+
+        mbs = self.mbs
         ground = mbs.AddNode(NodePointGround(referenceCoordinates=[0.0, 0.0, 0.0]))
         m0 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
-        m1 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=self.node[veh.speed_body], coordinate=0))
-        self.speed_constraint = mbs.AddObject(
-            ObjectConnectorCoordinate(markerNumbers=[m0, m1], velocityLevel=True, offset=V)
+        m1 = mbs.AddMarker(
+            MarkerNodeCoordinate(nodeNumber=self.node[self.vehicle.speed_body], coordinate=0)
         )
-        mbs.Assemble()
-        self.ltg = {
-            name: np.asarray(mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
-            for name, n in self.node.items()
-        }
-        self.object_ltg = np.concatenate([self.ltg[self._name_of(n)] for n in ode_nodes])
+        self.speed_constraint = mbs.AddObject(
+            ObjectConnectorCoordinate(markerNumbers=[m0, m1], velocityLevel=True, offset=self.speed)
+        )
 
     def _name_of(self, node: int) -> str:
         return next(k for k, v in self.node.items() if v == node)
@@ -410,25 +584,12 @@ class VehicleModel:
         self._user_function(self.mbs, 0.0, 0, list(q), list(qt))
         self._jacobian_function(self.mbs, 0.0, 0, list(q), list(qt), 1.0, 0.0)
 
-    def kernel_args(self) -> tuple:
-        """Arguments of :func:`railexu.forces.generalized_forces` after ``q, qt``."""
-        return (
-            self.qref, self.ws_slots, self.wtab, self.winfo, self.rtab, self.rinfo, self.htab,
-            self.ktab, self.params, self.irr_start, self.irr_step, self.irr_values,
-            self.irr_slopes, self.bs_int, self.bs_real,
-        )  # fmt: skip
-
-    def evaluate_forces(self, q_all: np.ndarray, qt_all: np.ndarray):
-        """Contact points and wheelset forces at a full system state (for outputs).
-
-        Returns ``(points, ws_force)``: ``(n_ws, 2, MAX_POINTS, N_POINT_FIELDS)`` and
-        ``(n_ws, 6)`` arrays (copies).
-        """
-        points = np.zeros_like(self.points)
-        ws_force = np.zeros_like(self.ws_force)
-        out = np.zeros_like(self._out)
+    def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):
+        """Evaluate the compiled forces at a full system state and time ``t`` into the given
+        arrays (for outputs); ``self.kernel.ws_local`` then holds the wheelsets' track-relative
+        pose."""
+        if self.curved:
+            self.set_time(t)
         generalized_forces(
-            q_all[self.object_ltg], qt_all[self.object_ltg], *self.kernel_args(), out, points,
-            ws_force,
-        )  # fmt: skip
-        return points, ws_force
+            q_all[self.object_ltg], qt_all[self.object_ltg], self.kernel, out, points, ws_force
+        )

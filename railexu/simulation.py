@@ -25,8 +25,9 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from .contact import kernel as K
-from .forces import generalized_forces
-from .model import ModelError, VehicleModel
+from .curving import curving_statistics, track_columns
+from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_VERTICAL, WL_YAW, track_position
+from .model import VehicleModel
 from .results import TimeSeries, summarize
 from .run_settings import RunSettings as RunSettings
 from .run_settings import RunSettingsError as RunSettingsError
@@ -105,6 +106,12 @@ class _Recorder:
                     f"ws{i}_{side}_{k}" for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")
                 ]
         columns += [f"{name}_lateral_m" for name in self.body_names]
+        # track-relative extras: distance of each wheelset along the track, the wear number
+        # T-gamma of each wheel
+        columns += [f"ws{i}_s_m" for i in range(1, len(names) + 1)]
+        columns += [
+            f"ws{i}_{side}_Tgamma_N" for i in range(1, len(names) + 1) for side in ("left", "right")
+        ]
         if settings.deceleration_m_per_s2 != 0.0:
             columns.append("speed_m_per_s")
         self.columns = columns
@@ -120,6 +127,27 @@ class _Recorder:
         )  # fmt: skip
         self.c_body = np.array([col[f"{n}_lateral_m"] for n in self.body_names], dtype=int)
         self.c_speed = col.get("speed_m_per_s")
+        n_ws = len(names)
+        self.c_s = np.array([col[f"ws{i}_s_m"] for i in range(1, n_ws + 1)])
+        self.c_tgamma = np.array(
+            [[col[f"ws{i}_{side}_Tgamma_N"] for side in ("left", "right")]
+             for i in range(1, n_ws + 1)]
+        )  # fmt: skip
+        self.curved = model.curved
+        # elastic track: deflections of the rail masses under each wheelset
+        self.rail_columns = []
+        self.rail_coords = []
+        for i, name in enumerate(names, start=1):
+            if name in model.rail_node:
+                self.rail_columns.append(len(self.columns))
+                for side in ("left", "right"):
+                    for k in ("lateral", "vertical"):
+                        self.columns.append(f"ws{i}_{side}_rail_{k}_m")
+                self.rail_coords.append(model.rail_ltg[name])
+        if self.rail_columns:
+            self.data = np.zeros((n_out, len(self.columns)))
+            self.c_rail = np.array([[c + k for k in range(4)] for c in self.rail_columns])
+            self.i_rail = np.array(self.rail_coords)
         ltg = model.ltg
         self.i_ws = np.array([ltg[n] for n in names])  # (n_ws, 6) global coordinates
         self.ref = np.array([model.centre[n] for n in names])
@@ -130,6 +158,8 @@ class _Recorder:
         self.i_body_x = np.array([ltg[n][0] for n in self.body_names], dtype=int)
         self.ref_body = np.array([model.centre[n][1] for n in self.body_names])
         self.ref_body_x = np.array([model.centre[n][0] for n in self.body_names])
+        self.i_body_z = np.array([ltg[n][2] for n in self.body_names], dtype=int)
+        self.ref_body_z = np.array([model.centre[n][2] for n in self.body_names])
         # lateral positions are recorded relative to the track centre line (the mean lateral
         # offset of the two rails, i.e. the alignment irregularity)
         values = model.irr_values
@@ -143,7 +173,6 @@ class _Recorder:
         self.lift_limit = settings.derailment_lift_fraction * np.array(
             [flange_height[i] for i in order]
         )
-        self.args = model.kernel_args()
         self.out = np.zeros_like(model._out)
         self.points = np.zeros_like(model.points)
         self.ws_force = np.zeros_like(model.ws_force)
@@ -157,21 +186,26 @@ class _Recorder:
             return None
         if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qt))):
             return ("diverged", t, "the state became NaN or infinite")
-        obj = self.model.object_ltg
-        generalized_forces(q[obj], qt[obj], *self.args, self.out, self.points, self.ws_force)
+        self.model.evaluate(q, qt, t, self.out, self.points, self.ws_force)
         row = self.data[k]
         row[0] = t
         row[1] = self.settings.distance_at(t)
         if self.c_speed is not None:
             row[self.c_speed] = self.settings.speed_at(t)
-        y = (
-            self.ref[:, 1]
-            + q[self.i_ws[:, 1]]
-            - self._track_centre(self.ref[:, 0] + q[self.i_ws[:, 0]])
-        )
-        z = self.ref[:, 2] + q[self.i_ws[:, 2]]
-        phi = self.theta0 + q[self.i_ws[:, 3]] + 0.5 * math.pi
-        psi = -q[self.i_ws[:, 4]]
+        if self.curved:
+            loc = self.model.kernel.ws_local[self.order]
+            s_ws = loc[:, WL_S]
+            y = loc[:, WL_LATERAL] - self._track_centre(s_ws)
+            z = loc[:, WL_VERTICAL]
+            phi = loc[:, WL_ROLL]
+            psi = loc[:, WL_YAW]
+        else:
+            s_ws = self.ref[:, 0] + q[self.i_ws[:, 0]]
+            y = self.ref[:, 1] + q[self.i_ws[:, 1]] - self._track_centre(s_ws)
+            z = self.ref[:, 2] + q[self.i_ws[:, 2]]
+            phi = self.theta0 + q[self.i_ws[:, 3]] + 0.5 * math.pi
+            psi = -q[self.i_ws[:, 4]]
+        row[self.c_s] = s_ws
         row[self.c_ws[:, 0]] = y
         row[self.c_ws[:, 1]] = psi
         row[self.c_ws[:, 2]] = phi
@@ -183,9 +217,14 @@ class _Recorder:
         row[self.c_wheel[:, :, 2]] = loaded.sum(axis=2)
         angle = np.where(loaded, pts[:, :, :, K.PF_ANGLE], -np.inf).max(axis=2)
         row[self.c_wheel[:, :, 3]] = np.where(np.isfinite(angle), angle, 0.0)
+        # wear number: sum over the contact points of |creep force . creepage|
+        power = pts[:, :, :, K.PF_FX] * pts[:, :, :, K.PF_XI]
+        power += pts[:, :, :, K.PF_FY] * pts[:, :, :, K.PF_ETA]
+        row[self.c_tgamma] = np.abs(np.where(loaded, power, 0.0)).sum(axis=2)
         if self.c_body.size:
-            x_body = self.ref_body_x + q[self.i_body_x]
-            row[self.c_body] = self.ref_body + q[self.i_body] - self._track_centre(x_body)
+            row[self.c_body] = self._body_lateral(q)
+        if self.rail_columns:
+            row[self.c_rail] = q[self.i_rail]
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track
@@ -213,13 +252,39 @@ class _Recorder:
             )
         return None
 
+    def _body_lateral(self, q: np.ndarray) -> np.ndarray:
+        """Lateral position of every body's centre relative to the track centre line [m]."""
+        x_body = self.ref_body_x + q[self.i_body_x]
+        y_body = self.ref_body + q[self.i_body]
+        if not self.curved:
+            return y_body - self._track_centre(x_body)
+        # in the canted plane of the track at the foot point, as the wheelsets' lateral
+        data = self.model.kernel
+        z_body = self.ref_body_z + q[self.i_body_z]
+        out = np.empty(x_body.size)
+        for j in range(x_body.size):
+            s, lateral, height, _ = track_position(
+                data, x_body[j] - data.frame[FR_S], y_body[j], z_body[j]
+            )
+            cant = float(self.model.alignment.cant_angle(s))
+            out[j] = math.cos(cant) * lateral + math.sin(cant) * height - self._track_centre(s)
+        return out
+
     def _track_centre(self, x: np.ndarray) -> np.ndarray | float:
         if not self.has_alignment:
             return 0.0
         return np.interp(x, self.irr_x, self.irr_centre, left=0.0, right=0.0)
 
     def timeseries(self) -> TimeSeries:
-        return TimeSeries({c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)})
+        columns = {c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)}
+        speed = columns.get("speed_m_per_s")
+        if speed is None:
+            speed = np.full(self.n, self.speed)
+        columns.update(
+            track_columns(self.model.alignment, columns["ws1_s_m"], speed,
+                          self.model.vehicle.gravity_m_per_s2)
+        )  # fmt: skip
+        return TimeSeries(columns)
 
 
 _STOP_SIGNALS = {"SIGINT": "Ctrl-C, SIGINT", "SIGTERM": "SIGTERM"}
@@ -250,37 +315,60 @@ def run(
 
     The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
     leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
-    ``interrupted`` on Ctrl-C; the time series up to that point is returned either way.
+    ``interrupted`` on Ctrl-C or SIGTERM; the time series up to that point is returned either
+    way.
     """
-    import exudyn as exu
-
     settings = settings or RunSettings()
     track = track or ideal_straight_track()
     t_start = time.perf_counter()
-    try:
-        model = VehicleModel(
-            vehicle,
-            track,
-            settings.speed_m_per_s,
-            settings.initial_lateral_m,
-            settings.distance_m,
-        )
-    except ModelError:
-        raise
+    model = VehicleModel(
+        vehicle,
+        track,
+        settings.speed_m_per_s,
+        settings.initial_lateral_m,
+        settings.distance_m,
+        settings.deceleration_m_per_s2,
+    )
     model.warm_up()
     t_built = time.perf_counter()
-    mbs = model.mbs
-    V = settings.speed_m_per_s
     order = _wheelset_order(vehicle)
-    ws_names = [vehicle.wheelsets[i].name for i in order]
-    flange_height = [
+    ss, n_steps = _solver_settings(settings)
+    recorder = _Recorder(
+        model, vehicle, settings, order, n_steps // settings.output_every + 2,
+        _flange_heights(model),
+    )  # fmt: skip
+    wall_int, error, stop = _integrate(model, settings, ss, recorder, progress)
+    status = _final_status(model, settings, recorder, error, stop)
+    ts = recorder.timeseries()
+    summary = _summary(model, vehicle, track, settings, ts, order, status, wall_int)
+    t_done = time.perf_counter()
+    timings = {
+        "build_s": t_built - t_start,
+        "integration_s": wall_int,
+        "total_s": t_done - t_start,
+    }
+    summary["timings_s"] = timings
+    # keep the key order of earlier summaries: timings, solver, settings, vehicle, track
+    for key in ("solver", "settings", "vehicle", "track", "curving", "warnings"):
+        if key in summary:
+            summary[key] = summary.pop(key)
+    return RunResult(ts, summary, status, settings, vehicle, track, timings, model)
+
+
+def _flange_heights(model: VehicleModel) -> list[float]:
+    """Height of the flange tip above the tape circle of every wheelset's wheel [m]."""
+    return [
         float(
             np.max(g.left.wheel.height(np.linspace(g.left.wheel.y_min, g.left.wheel.y_max, 2001)))
         )
         for g in model.geometries
     ]
 
-    # simulation settings
+
+def _solver_settings(settings: RunSettings):
+    """Exudyn's simulation settings for the run and the number of steps."""
+    import exudyn as exu
+
     h = settings.time_step_s
     n_steps = int(math.ceil(settings.duration_s / h - 1e-9))
     ss = exu.SimulationSettings()
@@ -300,12 +388,19 @@ def run(
     ss.solution.sensors.active = False
     ss.show.computationTime = False
     ss.show.statistics = False
+    return ss, n_steps
 
-    # recording
-    every = settings.output_every
-    n_out = n_steps // every + 2
-    recorder = _Recorder(model, vehicle, settings, order, n_out, flange_height)
-    rec = {"status": None}
+
+def _integrate(model, settings, ss, recorder, progress):
+    """Run Exudyn's solver with recording, progress and stop signals.
+
+    Returns ``(wall-clock seconds, solver exception or None, stop status or None)``."""
+    import exudyn as exu
+
+    mbs = model.mbs
+    ti = ss.timeIntegration
+    h = settings.time_step_s
+    rec = {"status": None, "next": 0.0, "interrupted": False}
     wall0 = [time.perf_counter()]
 
     def record(t: float) -> bool:
@@ -322,10 +417,7 @@ def run(
             progress(settings.distance_at(t), settings.distance_m, settings.speed_at(t), eta)
         return rec["status"] is None
 
-    interval = every * h
-    rec["next"] = 0.0
-
-    decelerating = settings.deceleration_m_per_s2 != 0.0
+    interval = settings.output_every * h
     params = model.params
 
     def pre_step(mbs_, t: float) -> bool:
@@ -348,7 +440,7 @@ def run(
             return record(t)
         return True
 
-    if decelerating:
+    if settings.deceleration_m_per_s2 != 0.0:
         mbs.SetPreStepUserFunction(pre_step)
     mbs.SetPostStepUserFunction(post_step)
     solver_type = (
@@ -362,11 +454,9 @@ def run(
     # numpy array, which it copies): harmless; its console output is off during the solution
     # so that the progress line stays readable (solver failures still raise exceptions)
     exu.config.printToConsole = False
-    # Ctrl-C ends the run at the next step with the results so far (not possible outside the
-    # main thread, e.g. in a Dask worker thread: then it simply is not caught here)
-    # (a process that ignores SIGINT, like a study's worker, keeps ignoring it)
-    # SIGTERM (what `timeout`, `kill` and container stops send) is treated the same way
-    rec["interrupted"] = False
+    # Ctrl-C and SIGTERM (what `timeout`, `kill` and container stops send) end the run at the
+    # next step with the results so far (not possible outside the main thread, e.g. in a Dask
+    # worker thread; a process that ignores SIGINT, like a study's worker, keeps ignoring it)
     previous_handlers = _catch_stop_signals(rec)
     try:
         mbs.SolveDynamic(ss, solverType=solver_type)
@@ -385,23 +475,32 @@ def run(
         and (recorder.n == 0 or recorder.last_time < t_end - 1e-12)
     ):
         record(t_end)
-    if rec["status"] is not None:
-        state, t_stop, reason = rec["status"]
+    return wall_int, error, rec["status"]
+
+
+def _final_status(model, settings, recorder, error, stop) -> dict:
+    """The run's status: completed, derailed, diverged or interrupted, where and why."""
+    t_end = model.mbs.systemData.GetTime()
+    if stop is not None:
+        state, t_stop, reason = stop
     elif error is not None:
         state, t_stop = "diverged", t_end
         reason = f"the solver failed at t = {t_end:.3f} s: {str(error).strip().splitlines()[0]}"
     else:
         state, t_stop, reason = "completed", t_end, ""
-    status = {
+    return {
         "state": state,
         "distance_m": settings.distance_at(t_stop),
         "time_s": t_stop,
         "reason": reason,
     }
-    ts = recorder.timeseries()
+
+
+def _summary(model, vehicle, track, settings, ts, order, status, wall_int) -> dict:
+    """The run's summary (``summary.json``): results, solver statistics, settings."""
     stats = {}
     try:
-        it = mbs.sys["dynamicSolver"].it
+        it = model.mbs.sys["dynamicSolver"].it
         stats = {
             "newton_iterations": int(it.newtonStepsCount),
             "jacobian_updates": int(it.newtonJacobiCount),
@@ -409,35 +508,31 @@ def run(
         }
     except (KeyError, AttributeError):
         pass
-    simulated = t_stop
+    simulated = status["time_s"]
     rt = simulated / wall_int if wall_int > 0 else math.inf
     axle_loads = [float(np.sum(model.statics.wheel_loads_N[i])) for i in order]
-    flange_angle = flange_angle_rad(model)
     summary = summarize(
         ts,
-        wheelset_names=ws_names,
+        wheelset_names=[vehicle.wheelsets[i].name for i in order],
         status=status,
         realtime_factor=rt,
-        speed_m_per_s=V,
+        speed_m_per_s=settings.speed_m_per_s,
         friction=vehicle.contact.friction,
-        flange_angle_rad=flange_angle,
+        flange_angle_rad=flange_angle_rad(model),
         static_axle_loads_N=axle_loads,
         track_irregular=track.irregularity.type != "none",
     )
-    t_done = time.perf_counter()
-    timings = {
-        "build_s": t_built - t_start,
-        "integration_s": wall_int,
-        "total_s": t_done - t_start,
-    }
-    summary["timings_s"] = timings
     summary["solver"] = stats
     summary["settings"] = asdict(settings)
     summary["vehicle"] = vehicle.name
     summary["track"] = track.name
+    if model.curved:
+        summary["curving"] = curving_statistics(
+            ts, model.alignment, [vehicle.wheelsets[i].name for i in order]
+        )
     if model.axle_load_warnings:
         summary["warnings"] = list(model.axle_load_warnings)
-    return RunResult(ts, summary, status, settings, vehicle, track, timings, model)
+    return summary
 
 
 def flange_angle_rad(model: VehicleModel) -> float:

@@ -26,6 +26,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .alignment import Alignment, alignment_from_dict
 from .catalog import find_input
 from .contact.placement import parse_inclination
 from .inputs import InputError, LineMap, Section, load_yaml_with_overrides, resolve_file
@@ -37,6 +38,7 @@ from .irregularities import (
     synthesize_irregularities,
 )
 from .profiles import ProfileError, rail_profile
+from .track_model import ElasticTrack, track_model_from_dict
 from .track_schema import (
     IRREGULARITIES,
     MAX_LENGTH_M,
@@ -76,6 +78,10 @@ class Track:
     irregularity: IrregularitySpec = field(default_factory=IrregularitySpec)
     description: str = ""
     source: str = ""
+    # design geometry (railexu.alignment); None: straight track
+    alignment: Alignment | None = field(default=None, compare=False)
+    # elastic track (railexu.track_model); None: rigid
+    elastic: ElasticTrack | None = None
 
     @property
     def inclination_rad(self) -> float:
@@ -139,7 +145,11 @@ def track_from_dict(
     except ProfileError as exc:
         top.fail(str(exc), key="rail_profile")
     written, angle = TRACK.read(top, "inclination")
-    geometry, _ = TRACK.read(top, "geometry")
+    # the geometry and the track model are checked by their own modules (sections, measured
+    # CSV; rigid or elastic), with file, line and key
+    alignment = alignment_from_dict(top.data.get("geometry"), source, top.lines, base_dir)
+    geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
+    elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -157,6 +167,8 @@ def track_from_dict(
         irregularity=spec,
         description=TRACK.read(top, "description"),
         source=source,
+        alignment=alignment,
+        elastic=elastic,
     )
 
 

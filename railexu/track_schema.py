@@ -56,7 +56,53 @@ IRREGULARITIES = {
     ),
 }  # fmt: skip
 
-GEOMETRY = {"straight": Schema("straight", (), "Straight track (curves will extend this).")}
+# The geometry and the track model are read and checked by railexu.alignment and
+# railexu.track_model (lists of sections, CSV files, a string or a mapping); these declarations
+# give the allowed keys and the documentation (docs/curving.md has the details).
+_CANT_BASE = Field("cant_base", "distance of the rail centres over which cant is measured",
+                   unit="m", default=1.5, minimum=1.0, maximum=2.0)  # fmt: skip
+GEOMETRY = {
+    "straight": Schema("straight", (), "Straight track (the default)."),
+    "sections": Schema(
+        "sections",
+        (
+            Field("sections", "the sections along the centre line: {type: straight, length}, "
+                  "{type: transition, length, shape: clothoid|bloss}, {type: curve, length, "
+                  "radius, cant, direction: left|right}", "text_list"),
+            _CANT_BASE,
+        ),
+        "Straights, transitions and curves in the order of travel (docs/curving.md).",
+    ),
+    "measured": Schema(
+        "measured",
+        (
+            Field("file", "CSV of distance (m), curvature (1/m, signed, left positive) and cant "
+                  "(m), relative to this file", "text"),
+            _CANT_BASE,
+        ),
+        "Curvature and cant as track recording data give them.",
+    ),
+}  # fmt: skip
+TRACK_MODEL = {
+    "rigid": Schema("rigid", (), "Rigid rails (the default)."),
+    "elastic": Schema(
+        "elastic",
+        (
+            Field("rail_mass", "co-running rail mass per rail and wheelset", unit="kg",
+                  default=150.0, positive=True),
+            Field("lateral_stiffness", "lateral stiffness of a rail to ground", unit="N/m",
+                  default=40.0e6, positive=True),
+            Field("lateral_damping", "lateral damping of a rail to ground", unit="N s/m",
+                  default=1.0e5, minimum=0.0),
+            Field("vertical_stiffness", "vertical stiffness of a rail to ground (pad, ballast)",
+                  unit="N/m", default=100.0e6, positive=True),
+            Field("vertical_damping", "vertical damping of a rail to ground", unit="N s/m",
+                  default=1.0e5, minimum=0.0),
+        ),
+        "A co-running mass under each wheel with springs and dampers to ground "
+        "(docs/curving.md gives the sources of the defaults).",
+    ),
+}  # fmt: skip
 
 TRACK = Schema(
     "track",
@@ -74,6 +120,8 @@ TRACK = Schema(
               unit="m", default=1.435, minimum=1.0, maximum=2.0),
         Field("geometry", "track geometry by `type`", "model", default={"type": "straight"},
               models=GEOMETRY, selector="type"),
+        Field("track_model", "rigid, or elastic (`elastic` or {type: elastic, ...})", "model",
+              default={"type": "rigid"}, models=TRACK_MODEL, selector="type"),
         Field("irregularities", "irregularities by `type`, their parameters nested", "model",
               default={"type": "none"}, models=IRREGULARITIES, selector="type"),
     ),
@@ -82,6 +130,9 @@ TRACK = Schema(
 
 DOC_TABLES = (
     ("Top level", TRACK),
+    ("`geometry` with `type: sections`", GEOMETRY["sections"]),
+    ("`geometry` with `type: measured`", GEOMETRY["measured"]),
+    ("`track_model` with `type: elastic`", TRACK_MODEL["elastic"]),
     ("`irregularities` with `type: spectrum`", IRREGULARITIES["spectrum"]),
     ("`irregularities` with `type: measured`", IRREGULARITIES["measured"]),
 )

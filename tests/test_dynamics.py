@@ -48,9 +48,10 @@ def free_cone_wheelset():
 
 def test_free_wheelset_hunts_with_klingel_wavelength(free_cone_wheelset):
     """A free wheelset with conical wheels at low speed: L = 2 pi sqrt(e0 r0 / gamma)
-    (physics.md section 7) within 3 %. The deviation that remains is physical: the roll of the
-    wheelset on a rail head of finite radius changes the effective conicity, and the roll rate
-    adds to the lateral creepage (neither is in Klingel's kinematics)."""
+    (Klingel 1883; Wickens 2003, Fundamentals of Rail Vehicle Dynamics, ch. 2) within 3 %. The
+    deviation that remains is physical: the roll of the wheelset on a rail head of finite radius
+    changes the effective conicity, and the roll rate adds to the lateral creepage (neither is in
+    Klingel's kinematics)."""
     vehicle, result = free_cone_wheelset
     assert result.status["state"] == "completed"
     r0 = vehicle.wheelsets[0].nominal_radius_m
@@ -68,7 +69,7 @@ def test_free_wheelset_hunts_with_klingel_wavelength(free_cone_wheelset):
 
 def test_rigid_bogie_hunts_with_the_bogie_formula():
     """A bogie whose wheelsets cannot move in the frame: L_B = L sqrt(1 + (a / e0)^2)
-    (physics.md section 7), with L Klingel's wheelset wavelength for the cone slope, within 3 %.
+    (Wickens 2003, ch. 2), with L Klingel's wheelset wavelength for the cone slope, within 3 %.
     (The two physical corrections seen on the free wheelset, the rail-radius effect on the
     conicity and the roll-rate creepage, are each about 2 % here and of opposite sign.)"""
     stiff = "1e9"

@@ -22,7 +22,7 @@ def test_wild_states_give_finite_forces():
                          ideal_straight_track(), 40.0, 0.0, 10.0)  # fmt: skip
     rng = np.random.default_rng(7)
     n = model._out.size
-    args = model.kernel_args()
+    data = model.kernel
     out = np.zeros(n)
     points = np.zeros_like(model.points)
     ws_force = np.zeros_like(model.ws_force)
@@ -30,10 +30,10 @@ def test_wild_states_give_finite_forces():
         for _ in range(200):
             q = rng.normal(0.0, scale, n)
             qt = rng.normal(0.0, 10.0 * scale, n)
-            generalized_forces(q, qt, *args, out, points, ws_force)
+            generalized_forces(q, qt, data, out, points, ws_force)
             assert np.all(np.isfinite(out))
     # far off the track: no contact at all
     q = np.zeros(n)
     q[1::6] = 1.0
-    generalized_forces(q, np.zeros(n), *args, out, points, ws_force)
-    assert np.all(out[: 6 * len(model.ws_slots)] == 0.0)
+    generalized_forces(q, np.zeros(n), data, out, points, ws_force)
+    assert np.all(out[: 6 * len(data.ws_slots)] == 0.0)

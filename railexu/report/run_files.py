@@ -60,6 +60,19 @@ def _write_into(
 
         title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
         for name, fig in run_figures(result.timeseries, result.summary, title).items():
-            for path in save_figure(fig, folder.path / name, formats=formats):
-                folder.file(path.name)
+            _save(folder, fig, name, formats)
+        alignment = getattr(result.track, "alignment", None)
+        if alignment is not None and not alignment.is_straight:
+            from .curving_figures import curving_figure
+            from .track_figures import track_figure
+
+            _save(folder, track_figure(alignment, result.track.name), "track", formats)
+            _save(folder, curving_figure(result.timeseries, alignment, title), "curving", formats)
     return list(folder.written)
+
+
+def _save(folder: OutputFolder, fig, name: str, formats: tuple[str, ...]) -> None:
+    from .figures import save_figure
+
+    for path in save_figure(fig, folder.path / name, formats=formats):
+        folder.file(path.name)

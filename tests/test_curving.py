@@ -1,0 +1,321 @@
+"""Vehicles in curves against outside references: the steady-curve force balance (Newton's
+second law in the track plane), the pure-rolling position of a free wheelset (the kinematic
+condition of Redtenbacher 1855, in Wickens 2003, Fundamentals of Rail Vehicle Dynamics, ch. 6),
+flange contact of the leading outer wheel at a large cant deficiency, and the curving outputs."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railexu.contact.conicity import equivalent_conicity
+from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.placement import symmetric_wheelset
+from railexu.simulation import RunSettings, run
+from railexu.track import load_track, track_from_dict
+from railexu.vehicle import load_vehicle
+
+ROOT = Path(__file__).resolve().parents[1]
+G = 9.81
+
+
+def _curve_track(radius_m, cant_m, curve_m, transition_m, straight_m=20.0, **extra):
+    data = {
+        "format_version": 1,
+        "name": f"R{radius_m:g}",
+        "geometry": {
+            "type": "sections",
+            "sections": [
+                {"type": "straight", "length": f"{straight_m} m"},
+                {"type": "transition", "length": f"{transition_m} m"},
+                {
+                    "type": "curve",
+                    "length": f"{curve_m} m",
+                    "radius": f"{radius_m} m",
+                    "cant": f"{cant_m} m",
+                    "direction": "left",
+                },  # fmt: skip
+            ],
+        },
+    }
+    data.update(extra)
+    return track_from_dict(data)
+
+
+def _sum(ts, quantity, n_ws):
+    return sum(ts[f"ws{i}_{side}_{quantity}"] for i in range(1, n_ws + 1)
+               for side in ("left", "right"))  # fmt: skip
+
+
+def _all_inside(ts, n_ws, start_m, end_m):
+    s = np.array([ts[f"ws{i}_s_m"] for i in range(1, n_ws + 1)])
+    return (s.min(axis=0) >= start_m) & (s.max(axis=0) <= end_m)
+
+
+@pytest.fixture(scope="module", params=[10.0, 30.0], ids=["10mps", "30mps"])
+def eu07_r600(request):
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = _curve_track(600.0, 0.1, 320.0, 40.0)  # the curve ends at 380 m
+    settings = RunSettings(speed_m_per_s=request.param, distance_m=330.0, initial_lateral_m=0.0)
+    return request.param, vehicle, run(vehicle, track, settings)
+
+
+def test_steady_curve_force_balance(eu07_r600):
+    """In the steady part of a curve the rails carry the vehicle's weight and centripetal force:
+    sum Y = m (V^2/R cos(phi) - g sin(phi)) and sum Q = m (g cos(phi) + V^2/R sin(phi)) in the
+    track plane (phi the cant angle), whatever the profiles and the creep law. Within 1 %
+    (the issue's criterion): averaged over the last 150 m of the curve; what remains is the
+    residual sway of the car body after the transition."""
+    speed, vehicle, result = eu07_r600
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    n_ws = len(vehicle.wheelsets)
+    mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
+    phi = math.asin(0.1 / 1.5)
+    a = speed**2 / 600.0
+    steady = _all_inside(ts, n_ws, 20.0 + 40.0 + 130.0, 380.0)
+    assert np.sum(steady) > 100
+    sum_y = float(np.mean(_sum(ts, "Y_N", n_ws)[steady]))
+    sum_q = float(np.mean(_sum(ts, "Q_N", n_ws)[steady]))
+    expected_y = mass * (a * math.cos(phi) - G * math.sin(phi))
+    expected_q = mass * (G * math.cos(phi) + a * math.sin(phi))
+    assert sum_y == pytest.approx(expected_y, rel=0.01)
+    assert sum_q == pytest.approx(expected_q, rel=0.01)
+    # cant excess at 10 m/s (the vehicle hangs on the inner rail), deficiency at 30 m/s
+    assert np.sign(sum_y) == (-1.0 if speed < 19.8 else 1.0)
+
+
+def test_curving_outputs_in_summary_and_time_series(eu07_r600):
+    speed, vehicle, result = eu07_r600
+    ts = result.timeseries
+    curve = result.summary["curving"]["curves"][0]
+    assert curve["radius_m"] == pytest.approx(600.0)
+    assert [w["name"] for w in curve["wheelsets"]] == ["ws1", "ws2", "ws3", "ws4"]
+    expected = 1.5 * speed**2 / (G * 600.0) - 0.1  # EN 13803 cant deficiency
+    assert curve["cant_deficiency_m"] == pytest.approx(expected, rel=1e-6)
+    lead = curve["wheelsets"][0]
+    assert lead["Q_outer_N"]["quasi_static"] > 0.0
+    assert lead["Tgamma_outer_N"]["max"] >= lead["Tgamma_outer_N"]["quasi_static"] >= 0.0
+    # the leading wheelset of a bogie points to the outside of the curve (positive angle of
+    # attack, Wickens 2003 ch. 6), the trailing one much less
+    assert lead["angle_of_attack_rad"]["quasi_static"] > 1e-3
+    for column in ("track_curvature_1_per_m", "cant_deficiency_m", "ws1_s_m", "ws1_left_Tgamma_N"):
+        assert column in ts.columns
+
+
+def test_free_wheelset_rolls_at_the_pure_rolling_position():
+    """A free wheelset with conical wheels at low speed in a large-radius curve oscillates about
+    the position where the rolling-radius difference equals 2 b r0 / R (pure rolling), i.e. the
+    lateral shift y = b r0 / (gamma R) towards the outer rail, with an angle of attack near
+    zero. Mean over the steady curve (whole kinematic wavelengths); 5 %: the equivalent
+    conicity is taken at 2 mm amplitude and b is the nominal 0.75 m."""
+    cone = 0.05
+    vehicle = load_vehicle(ROOT / "vehicles" / "wheelset.yaml",
+                           [f"wheelsets.ws1.wheel_profile=cone:{cone}"])  # fmt: skip
+    track = _curve_track(2000.0, 0.0, 260.0, 120.0, rail_profile="round:0.05",
+                         inclination="none")  # fmt: skip
+    # (exactly centred, this free wheelset's first Newton steps fail on straight track too)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=5.0, distance_m=400.0,
+                                             initial_lateral_m=0.001))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ws = vehicle.wheelsets[0]
+    geometry = symmetric_wheelset(
+        ws.wheel_profile, "round:0.05", nominal_radius_m=ws.nominal_radius_m, inclination="none"
+    )
+    gamma = float(equivalent_conicity(WheelsetContactModel(geometry, vehicle.contact, 5.0),
+                                      [0.004], step_m=2.5e-4)[0][0])  # fmt: skip
+    ts = result.timeseries
+    steady = ts["ws1_s_m"] > 20.0 + 120.0 + 40.0
+    y = ts["ws1_lateral_m"][steady]
+    expected = -0.75 * ws.nominal_radius_m / (gamma * 2000.0)  # towards the outer (right) rail
+    assert float(np.mean(y)) == pytest.approx(expected, rel=0.05)
+    assert abs(float(np.mean(ts["ws1_yaw_rad"][steady]))) < 2e-5
+
+
+def test_large_cant_deficiency_puts_the_leading_outer_wheel_on_its_flange():
+    """R 300 m, 150 mm cant, at the speed of 150 mm cant deficiency (EN 13803:
+    I = 1.5 V^2/(g R) - D): the leading outer wheel of the EU07 runs on its flange (contact
+    angle near the flange angle, 70 deg for S1002), the inner wheel on its tread."""
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = load_track(ROOT / "tracks" / "curve_r300.yaml")
+    speed = math.sqrt((0.15 + 0.15) * G * 300.0 / 1.5)  # 24.3 m/s
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=300.0,
+                                             initial_lateral_m=0.0))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    steady = ts["ws1_s_m"] > 100.0 + 70.0 + 40.0
+    outer = ts["ws1_right_max_angle_rad"][steady]
+    inner = ts["ws1_left_max_angle_rad"][steady]
+    assert np.median(outer) > math.radians(50.0)
+    assert np.max(np.abs(inner)) < math.radians(10.0)
+    assert result.summary["curving"]["curves"][0]["cant_deficiency_m"] == pytest.approx(0.15)
+
+
+def _steady_curving_solution(p: dict) -> np.ndarray:
+    """The linear steady-curving equations of a two-axle bogie (Boocock 1969, Steady-state
+    motion of railway vehicles on curved track, J. Mech. Eng. Sci. 11; Wickens 2003, ch. 6),
+    solved for ``(y1, psi1, y2, psi2, yF, psiF)``: lateral shifts and yaw angles relative to the
+    local track of the leading and trailing wheelset and of the frame (at its centre).
+
+    Per wheelset (conicity ``lam``, semi-distance of the contact points ``l0``, radius ``r0``,
+    per-wheel creep coefficients ``f11``, ``f22``; spin neglected): lateral creep force
+    ``2 f22 psi``, yaw moment of the longitudinal creep forces ``-2 l0 f11 (l0 / R +
+    lam y / r0)``. Primary suspension at ``x = +-a`` from the frame centre, lateral stiffness
+    ``ky`` and yaw stiffness ``kpsi`` per wheelset; in the frame's tangent coordinates the track
+    centre at ``x`` lies ``x^2 / (2 R)`` to the inside and turns by ``x / R``. Centripetal forces
+    ``m V^2 / R`` of wheelsets and frame; no cant.
+    """
+    a, k = p["a"], 1.0 / p["R"]
+    f11, f22, lam, l0, r0 = p["f11"], p["f22"], p["lam"], p["l0"], p["r0"]
+    ky, kpsi, c_w, c_f = p["ky"], p["kpsi"], p["m_w"] * p["V"] ** 2 * k, p["m_f"] * p["V"] ** 2 * k
+    m = np.zeros((6, 6))
+    rhs = np.zeros(6)
+    for i, x in enumerate((a, -a)):
+        y, psi = 2 * i, 2 * i + 1
+        # relative lateral displacement d = y_i + x^2 k / 2 - yF - x psiF, relative yaw
+        # e = psi_i + x k - psiF
+        # wheelset lateral: 2 f22 psi_i - ky d = m_w V^2 k
+        m[y, psi] = 2 * f22
+        m[y, y] -= ky
+        m[y, 4] += ky
+        m[y, 5] += ky * x
+        rhs[y] = c_w + ky * x * x * k / 2
+        # wheelset yaw: -2 l0 f11 (l0 k + lam y_i / r0) - kpsi e = 0
+        m[psi, y] = -2 * l0 * f11 * lam / r0
+        m[psi, psi] = -kpsi
+        m[psi, 5] = kpsi
+        rhs[psi] = 2 * l0 * f11 * l0 * k + kpsi * x * k
+        # frame lateral: sum ky d = m_f V^2 k; frame yaw: sum (kpsi e + x ky d) = 0
+        m[4, y] += ky
+        m[4, 4] -= ky
+        m[4, 5] -= ky * x
+        rhs[4] -= ky * x * x * k / 2
+        m[5, psi] += kpsi
+        m[5, 5] -= kpsi
+        rhs[5] -= kpsi * x * k
+        m[5, y] += x * ky
+        m[5, 4] -= x * ky
+        m[5, 5] -= x * x * ky
+        rhs[5] -= x * ky * x * x * k / 2
+    rhs[4] += c_f
+    return np.linalg.solve(m, rhs)
+
+
+def test_linear_steady_curving_of_a_bogie():
+    """A two-axle bogie with conical wheels (1:20) on round rails and Kalker's linear creep law
+    in a 2500 m curve at 10 m/s: lateral shifts and angles of attack of both wheelsets against
+    the textbook steady-curving equations solved here with numpy. The creep coefficients come
+    from the Hertz ellipses of the run's contacts and Kalker's table, the conicity from the
+    quasi-static rolling-radius difference of the profiles. 5 % (0.05 mm on a 1 mm shift): spin
+    creep (about 1 % of the lateral creep force here), the contact angle and the rails' radius
+    are outside the linear textbook model."""
+    from railexu.contact import kernel as K
+    from railexu.contact.conicity import rolling_radius_difference
+    from railexu.contact.kalker import kalker_coefficients
+
+    cone, radius, speed = 0.05, 2500.0, 10.0
+    overrides = [f"wheelsets.{w}.wheel_profile=cone:{cone}" for w in ("ws1", "ws2")]
+    overrides.append("contact.creep_model=kalker_linear")
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml", overrides)
+    track = _curve_track(radius, 0.0, 300.0, 100.0, rail_profile="round:0.05",
+                         inclination="none")  # fmt: skip
+    # (exactly centred, cones on round rails fail the first Newton steps, on straight track too)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=390.0,
+                                             initial_lateral_m=0.001))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    steady = ts["ws2_s_m"] > 20.0 + 100.0 + 120.0
+    model = result.model
+    ws = vehicle.wheelsets[0]
+    geometry = symmetric_wheelset(
+        ws.wheel_profile, "round:0.05", nominal_radius_m=ws.nominal_radius_m, inclination="none"
+    )
+    y = np.linspace(-0.004, 0.004, 33)
+    dr = rolling_radius_difference(WheelsetContactModel(geometry, vehicle.contact, speed), y)
+    lam = float(np.polyfit(y, dr, 1)[0]) / 2.0
+    pts = model.points[:, :, 0, :]  # the loaded point of each wheel at the end of the run
+    a, b = pts[..., K.PF_A], pts[..., K.PF_B]
+    g = vehicle.contact.shear_modulus_Pa
+    coef = np.array([[kalker_coefficients(a[i, s] / b[i, s], vehicle.contact.poisson)
+                      for s in range(2)] for i in range(2)])  # fmt: skip
+    f11 = float(np.mean(g * a * b * coef[..., 0]))
+    f22 = float(np.mean(g * a * b * coef[..., 1]))
+    frame = vehicle.bodies[0]
+    p = {
+        "a": 1.5, "R": radius, "V": speed, "f11": f11, "f22": f22, "lam": lam, "l0": 0.75,
+        "r0": ws.nominal_radius_m, "ky": 2 * 2.5e6, "kpsi": 2 * 8e6 * 1.05**2,
+        "m_w": ws.mass_kg, "m_f": frame.mass_kg,
+    }  # fmt: skip
+    y1, psi1, y2, psi2, _, _ = _steady_curving_solution(p)
+    names = ("ws1_lateral_m", "ws1_yaw_rad", "ws2_lateral_m", "ws2_yaw_rad")
+    got = {name: float(np.mean(ts[name][steady])) for name in names}
+    assert got["ws1_lateral_m"] == pytest.approx(y1, rel=0.05, abs=5e-6)
+    assert got["ws2_lateral_m"] == pytest.approx(y2, rel=0.05, abs=5e-6)
+    assert got["ws1_yaw_rad"] == pytest.approx(psi1, rel=0.05, abs=2e-6)
+    assert got["ws2_yaw_rad"] == pytest.approx(psi2, rel=0.05, abs=2e-6)
+
+
+def test_curved_track_formulation_reduces_to_straight_track():
+    """The curved-track path of the compiled forces (vehicle frame, projection onto the centre
+    line, local track frame) on a track without curvature and cant gives the forces and the
+    Jacobian of the straight-track path, for random states around the initial one."""
+    from railexu.forces import generalized_forces, jacobian
+    from railexu.model import VehicleModel
+
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml")
+    track = track_from_dict({"format_version": 1, "name": "straight"})
+    model = VehicleModel(vehicle, track, 30.0, 0.002, 50.0)
+    straight = model.kernel
+    curved = straight._replace(curved=True, body_slots=np.zeros(0, dtype=np.int64))
+    q0 = model.mbs.systemData.GetODE2Coordinates()[model.object_ltg]
+    qt0 = model.mbs.systemData.GetODE2Coordinates_t()[model.object_ltg]
+    rng = np.random.default_rng(3)
+    n = q0.size
+    for _ in range(20):
+        q = q0 + rng.normal(0.0, 1e-4, n)
+        qt = qt0 + rng.normal(0.0, 1e-2, n)
+        out = []
+        for data in (straight, curved):
+            f = np.zeros(n)
+            jac = np.zeros((n, n))
+            pts = np.zeros_like(model.points)
+            wsf = np.zeros_like(model.ws_force)
+            generalized_forces(q, qt, data, f, pts, wsf)
+            jacobian(q, qt, data, 1.0, 0.01, jac, pts.copy(), wsf.copy())
+            out.append((f, jac))
+        # rounding: the curved path subtracts and adds back the frame's distance (~10 m)
+        np.testing.assert_allclose(out[1][0], out[0][0], rtol=1e-6, atol=1e-3)
+        np.testing.assert_allclose(out[1][1], out[0][1], rtol=1e-3, atol=1e2)
+
+
+def test_a_curve_turning_beyond_90_degrees_keeps_the_force_balance():
+    """R 1000 m over 1960 m turns the track by 114 degrees, past the heading where absolute
+    Tait-Bryan wheelset nodes would be singular: in trajectory coordinates nothing changes
+    there. The force balance of the steady curve holds within 1 % both before (heading 40 to
+    70 degrees) and after 95 degrees, and the leading wheelset's quasi-static lateral position
+    is the same in both parts (0.05 mm: the remaining sway). (A tighter curve with the EU07
+    meets the Newton failure at the S1002/60E1 contact jump described in docs/curving.md.)"""
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    radius, cant, speed = 1000.0, 0.1, 30.0
+    track = _curve_track(radius, cant, 1960.0, 60.0)
+    result = run(vehicle, track, RunSettings(speed_m_per_s=speed, distance_m=1990.0,
+                                             initial_lateral_m=0.0))  # fmt: skip
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    heading = np.degrees(track.alignment.heading(ts["ws4_s_m"]))
+    assert heading.max() > 110.0
+    mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
+    phi = math.asin(cant / 1.5)
+    expected = mass * (speed**2 / radius * math.cos(phi) - G * math.sin(phi))
+    sum_y = _sum(ts, "Y_N", 4)
+    early = (heading > 40.0) & (heading < 70.0)
+    late = heading > 95.0
+    for part in (early, late):
+        assert np.sum(part) > 100
+        assert float(np.mean(sum_y[part])) == pytest.approx(expected, rel=0.01)
+    lateral = ts["ws1_lateral_m"]
+    assert float(np.mean(lateral[late])) == pytest.approx(float(np.mean(lateral[early])),
+                                                          abs=5e-5)  # fmt: skip
