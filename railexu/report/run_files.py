@@ -55,7 +55,6 @@ def _write_into(
         with atomic_path(folder.file(STATE_FILE)) as tmp:
             write_state(result, tmp)
     if plots:
-        from .figures import save_figure
         from .run_figures import run_figures
 
         title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
