@@ -42,7 +42,7 @@ _PUBLIC = {
     "load_track": "railexu.track",
     "Track": "railexu.track",
     "RunSettings": "railexu.run_settings",
-    "run": "railexu.simulation",
+    "run": "railexu.runs",
     "RunResult": "railexu.simulation",
     "TimeSeries": "railexu.results",
     "write_run": "railexu.report.run_files",
@@ -89,7 +89,8 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from .report.run_files import write_run
     from .results import TimeSeries
     from .run_settings import RunSettings
-    from .simulation import RunResult, run
+    from .runs import run
+    from .simulation import RunResult
     from .stability import CriticalSpeedSettings, critical_speed
     from .study import StudyResult, load_study, run_study
     from .track import Track, load_track

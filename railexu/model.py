@@ -67,8 +67,10 @@ def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
     return placed_wheelset(
         {"left": wheelset.wheel_profile, "right": wheelset.wheel_profile_right},
         track.rail_profile,
-        nominal_radius_m={"left": wheelset.nominal_radius_m,
-                          "right": wheelset.nominal_radius_right_m},  # fmt: skip
+        nominal_radius_m={
+            "left": wheelset.nominal_radius_m,
+            "right": wheelset.nominal_radius_right_m,
+        },  # fmt: skip
         **common,
     )
 

@@ -1,6 +1,6 @@
 """Run settings: speed, distance, initial offset, step and solver of one run (SI units).
 
-:class:`RunSettings` is what :func:`railexu.simulation.run` takes; :func:`run_settings_from_dict`
+:class:`RunSettings` is what :func:`railexu.run` takes; :func:`run_settings_from_dict`
 reads it from a mapping with units, as study files give it. Every key is declared once in
 :data:`RUN_SCHEMA` (unit, range, default, doc; ``docs/run-settings-format.md`` is generated from
 it), and the dataclass takes its defaults and range checks from there.

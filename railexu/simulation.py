@@ -21,27 +21,31 @@ import sys
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
+from typing import Any
 
 import numpy as np
 
 from .contact import kernel as K
-from .curving import curving_statistics, track_columns
+from .curving import track_columns
 from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_VERTICAL, WL_YAW, track_position
 from .model import VehicleModel
-from .results import TimeSeries, summarize
+from .preflight import check_initial_offset
 from .run_settings import RunSettings as RunSettings
 from .run_settings import RunSettingsError as RunSettingsError
 from .run_settings import run_settings_from_dict as run_settings_from_dict
+from .timeseries import TimeSeries
 from .track import Track, ideal_straight_track
 from .vehicle import Vehicle
 
 
 @dataclass
 class RunResult:
-    """Outcome of :func:`run`: the time series up to the end (or the stop), summary, model."""
+    """Outcome of a run: the time series up to the end (or the stop), the summary (a
+    :class:`railexu.results.RunSummary` from :func:`railexu.runs.run`; the run's facts only from
+    :func:`simulate`), the status, the model."""
 
     timeseries: TimeSeries
-    summary: dict
+    summary: Any
     status: dict
     settings: RunSettings
     vehicle: Vehicle
@@ -73,7 +77,7 @@ def print_progress(stream=sys.stderr) -> ProgressCallback:
     return report
 
 
-def _wheelset_order(vehicle: Vehicle) -> list[int]:
+def wheelset_order(vehicle: Vehicle) -> list[int]:
     """Indices of the wheelsets from the front (largest x) to the rear."""
     return sorted(range(len(vehicle.wheelsets)), key=lambda i: -vehicle.wheelsets[i].position_x_m)
 
@@ -305,22 +309,29 @@ def _catch_stop_signals(rec: dict) -> dict:
     return previous
 
 
-def run(
+def simulate(
     vehicle: Vehicle,
     track: Track | None = None,
     settings: RunSettings | None = None,
     progress: ProgressCallback | None = None,
 ) -> RunResult:
-    """Simulate ``vehicle`` running on ``track`` (ideal straight track by default).
+    """Simulate ``vehicle`` running on ``track`` (ideal straight track by default), without the
+    assessment: :func:`railexu.runs.run` adds it (the public ``railexu.run``).
 
     The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
     leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
     ``interrupted`` on Ctrl-C or SIGTERM; the time series up to that point is returned either
-    way.
+    way. The result's ``summary`` holds the facts of the run (status, solver statistics,
+    settings, names, timings, warnings).
+
+    Raises:
+        InputError: an initial lateral offset that lifts a wheel up its flange
+            (:func:`railexu.preflight.check_initial_offset`), a model that cannot be built.
     """
     settings = settings or RunSettings()
     track = track or ideal_straight_track()
     t_start = time.perf_counter()
+    warnings = check_initial_offset(vehicle, track, settings)
     model = VehicleModel(
         vehicle,
         track,
@@ -331,7 +342,7 @@ def run(
     )
     model.warm_up()
     t_built = time.perf_counter()
-    order = _wheelset_order(vehicle)
+    order = wheelset_order(vehicle)
     ss, n_steps = _solver_settings(settings)
     recorder = _Recorder(
         model, vehicle, settings, order, n_steps // settings.output_every + 2,
@@ -340,19 +351,23 @@ def run(
     wall_int, error, stop = _integrate(model, settings, ss, recorder, progress)
     status = _final_status(model, settings, recorder, error, stop)
     ts = recorder.timeseries()
-    summary = _summary(model, vehicle, track, settings, ts, order, status, wall_int)
-    t_done = time.perf_counter()
     timings = {
         "build_s": t_built - t_start,
         "integration_s": wall_int,
-        "total_s": t_done - t_start,
+        "total_s": time.perf_counter() - t_start,
     }
-    summary["timings_s"] = timings
-    # keep the key order of earlier summaries: timings, solver, settings, vehicle, track
-    for key in ("solver", "settings", "vehicle", "track", "curving", "warnings"):
-        if key in summary:
-            summary[key] = summary.pop(key)
-    return RunResult(ts, summary, status, settings, vehicle, track, timings, model)
+    facts = {
+        "status": status,
+        "timings_s": timings,
+        "solver": _solver_statistics(model),
+        "settings": asdict(settings),
+        "vehicle": vehicle.name,
+        "track": track.name,
+    }
+    warnings += list(model.axle_load_warnings)
+    if warnings:
+        facts["warnings"] = warnings
+    return RunResult(ts, facts, status, settings, vehicle, track, timings, model)
 
 
 def _flange_heights(model: VehicleModel) -> list[float]:
@@ -496,43 +511,17 @@ def _final_status(model, settings, recorder, error, stop) -> dict:
     }
 
 
-def _summary(model, vehicle, track, settings, ts, order, status, wall_int) -> dict:
-    """The run's summary (``summary.json``): results, solver statistics, settings."""
-    stats = {}
+def _solver_statistics(model: VehicleModel) -> dict:
+    """Newton iterations, Jacobian updates and steps of Exudyn's solver."""
     try:
         it = model.mbs.sys["dynamicSolver"].it
-        stats = {
+        return {
             "newton_iterations": int(it.newtonStepsCount),
             "jacobian_updates": int(it.newtonJacobiCount),
             "steps": int(it.currentStepIndex),
         }
     except (KeyError, AttributeError):
-        pass
-    simulated = status["time_s"]
-    rt = simulated / wall_int if wall_int > 0 else math.inf
-    axle_loads = [float(np.sum(model.statics.wheel_loads_N[i])) for i in order]
-    summary = summarize(
-        ts,
-        wheelset_names=[vehicle.wheelsets[i].name for i in order],
-        status=status,
-        realtime_factor=rt,
-        speed_m_per_s=settings.speed_m_per_s,
-        friction=vehicle.contact.friction,
-        flange_angle_rad=flange_angle_rad(model),
-        static_axle_loads_N=axle_loads,
-        track_irregular=track.irregularity.type != "none",
-    )
-    summary["solver"] = stats
-    summary["settings"] = asdict(settings)
-    summary["vehicle"] = vehicle.name
-    summary["track"] = track.name
-    if model.curved:
-        summary["curving"] = curving_statistics(
-            ts, model.alignment, [vehicle.wheelsets[i].name for i in order]
-        )
-    if model.axle_load_warnings:
-        summary["warnings"] = list(model.axle_load_warnings)
-    return summary
+        return {}
 
 
 def flange_angle_rad(model: VehicleModel) -> float:

@@ -41,7 +41,7 @@ from railexu.report.state_file import (
     track_force,
     wheel_points,
 )
-from railexu.simulation import RunSettings, run
+from railexu.runs import RunSettings, run
 from railexu.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]

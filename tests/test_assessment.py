@@ -320,7 +320,7 @@ def test_eu07_on_irregular_track_at_20_m_per_s_is_not_hunting():
     say it is not."""
     from pathlib import Path
 
-    from railexu.simulation import RunSettings, run
+    from railexu.runs import RunSettings, run
     from railexu.track import load_track
     from railexu.vehicle import load_vehicle
 

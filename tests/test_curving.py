@@ -14,7 +14,7 @@ import pytest
 from railexu.contact.conicity import equivalent_conicity
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.placement import symmetric_wheelset
-from railexu.simulation import RunSettings, run
+from railexu.runs import RunSettings, run
 from railexu.track import load_track, track_from_dict
 from railexu.vehicle import load_vehicle
 

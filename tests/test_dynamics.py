@@ -13,7 +13,7 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.placement import symmetric_wheelset
 from railexu.report.run_files import write_run
 from railexu.results import zero_crossing_wavelength
-from railexu.simulation import RunSettings, run
+from railexu.runs import RunSettings, run
 from railexu.track import Track
 from railexu.vehicle import load_vehicle
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from railexu.errors import InputError
-from railexu.simulation import RunSettings, run
+from railexu.runs import RunSettings, run
 from railexu.track import track_from_dict
 from railexu.track_model import ElasticTrack, track_model_from_dict
 from railexu.vehicle import load_vehicle

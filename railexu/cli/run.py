@@ -92,7 +92,7 @@ def command(args: argparse.Namespace) -> int:
     from ..catalog import find_input
     from ..report.folder import OutputFolder
     from ..report.run_files import write_run
-    from ..simulation import RunSettings, print_progress, run
+    from ..runs import RunSettings, print_progress, run
     from ..track import ideal_straight_track, load_track
     from ..vehicle import load_vehicle
 

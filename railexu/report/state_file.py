@@ -179,14 +179,14 @@ def contact_point_position(
 def state_from_run(result: RunResult) -> RunState:
     """The state of a run from its :class:`~railexu.simulation.RunResult` (which must hold the
     model: ``result.model``)."""
-    from ..simulation import _wheelset_order
+    from ..simulation import wheelset_order
 
     model = result.model
     if model is None:
         raise ValueError("the run result holds no model: cannot write its state file")
     ts = result.timeseries
     vehicle = result.vehicle
-    order = _wheelset_order(vehicle)
+    order = wheelset_order(vehicle)
     n, n_ws = len(ts), len(order)
     t = ts["time_s"]
     speed = (

@@ -10,7 +10,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..assessment.signals import amplitude
-from ..simulation import RunSettings, run
+from ..runs import RunSettings, run
 from ..track import Track, ideal_straight_track
 from ..vehicle import Vehicle
 from .settings import CriticalSpeedSettings

@@ -167,7 +167,7 @@ def _execute(task: _Task, case_dir: Path) -> tuple[str, dict]:
         from ..report.run_files import write_run
         from ..results import read_summary
         from ..run_settings import run_settings_from_dict
-        from ..simulation import run
+        from ..runs import run
 
         settings = run_settings_from_dict(task.settings, source, None, ("run",))
         vehicle = load_vehicle(task.vehicle, task.vehicle_overrides)
