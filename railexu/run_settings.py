@@ -59,6 +59,9 @@ RUN_SCHEMA = Schema(
               unit="m", default=OPTIONAL, minimum=0.0, maximum=200_000.0),
         Field("evaluate_to", "end of the evaluation window (default: the end of the run)",
               unit="m", default=OPTIONAL, positive=True, maximum=200_000.0),
+        Field("contact_outputs", "record every contact point (position, angle, creepages, "
+              "forces, semi-axes, T-gamma) in the time series: larger files", "boolean",
+              default=False),
     ),
     "Settings of one run (`base.run` of a study; `railexu run` options).",
 )  # fmt: skip
@@ -99,6 +102,7 @@ class RunSettings:
     newton_relative_tolerance: float = _D("newton_tolerance")
     evaluate_from_m: float | None = _D("evaluate_from")
     evaluate_to_m: float | None = _D("evaluate_to")
+    contact_outputs: bool = _D("contact_outputs")
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
     deceleration_m_per_s2: float = 0.0
@@ -227,6 +231,7 @@ def run_settings_from_dict(
         newton_relative_tolerance=values["newton_tolerance"],
         evaluate_from_m=values["evaluate_from"],
         evaluate_to_m=values["evaluate_to"],
+        contact_outputs=values["contact_outputs"],
     )
     try:
         return RunSettings(**kwargs)

@@ -82,6 +82,53 @@ def wheelset_order(vehicle: Vehicle) -> list[int]:
     return sorted(range(len(vehicle.wheelsets)), key=lambda i: -vehicle.wheelsets[i].position_x_m)
 
 
+#: Per contact point in the time series (``--contact-outputs``): ``ws{i}_{side}_p{k}_<field>``
+#: with the kernel's field of each (position on the wheel profile from the tape circle, on the
+#: rail, contact angle, creepages, forces on the wheel in the contact frame, semi-axes).
+CONTACT_FIELDS = {
+    "wheel_y_m": K.PF_S,
+    "rail_y_m": K.PF_YRAIL,
+    "angle_rad": K.PF_ANGLE,
+    "creep_x": K.PF_XI,
+    "creep_y": K.PF_ETA,
+    "spin_1_per_m": K.PF_SPIN,
+    "Fx_N": K.PF_FX,
+    "Fy_N": K.PF_FY,
+    "N_N": K.PF_N,
+    "a_m": K.PF_A,
+    "b_m": K.PF_B,
+    "Tgamma_N": -1,  # |Fx xi + Fy eta|: the wear number (Pearce and Sherratt 1991)
+}
+
+
+def contact_fields(points: np.ndarray) -> np.ndarray:
+    """The :data:`CONTACT_FIELDS` of every contact point, shape ``(n_ws, 2, MAX_POINTS,
+    n_fields)``, zero where a candidate point carries no load."""
+    loaded = points[..., K.PF_N] > 0.0
+    idx = [f for f in CONTACT_FIELDS.values() if f >= 0]
+    out = np.zeros((*points.shape[:3], len(CONTACT_FIELDS)))
+    out[..., : len(idx)] = points[..., idx]
+    out[..., -1] = np.abs(
+        points[..., K.PF_FX] * points[..., K.PF_XI] + points[..., K.PF_FY] * points[..., K.PF_ETA]
+    )
+    return np.where(loaded[..., None], out, 0.0)
+
+
+def point_accelerations(qtt_body: np.ndarray, lever_m: np.ndarray) -> np.ndarray:
+    """Lateral and vertical accelerations [m/s^2] of points fixed to bodies, from the bodies'
+    coordinate accelerations ``(x, y, z, roll, pitch, yaw)`` (one row per point) and the points'
+    lever arms from the centres of gravity (vehicle axes).
+
+    Small rotations (the car body's angles stay below a few degrees): a = a_cg + alpha x r; the
+    centripetal term omega x (omega x r) is of second order in the angular rates and left out.
+    Relative to the track (its frame in a curve): the quasi-static lateral acceleration of a
+    curve is not in it (the EN 12299 weightings remove it; ``docs/assessment.md``).
+    """
+    a_y = qtt_body[:, 1] + qtt_body[:, 5] * lever_m[:, 0] - qtt_body[:, 3] * lever_m[:, 2]
+    a_z = qtt_body[:, 2] + qtt_body[:, 3] * lever_m[:, 1] - qtt_body[:, 4] * lever_m[:, 0]
+    return np.stack([a_y, a_z], axis=1)
+
+
 class _Recorder:
     """Records the time series of a run into a preallocated array, vectorised over wheelsets,
     and checks for derailment."""
@@ -118,6 +165,17 @@ class _Recorder:
         ]
         if settings.deceleration_m_per_s2 != 0.0:
             columns.append("speed_m_per_s")
+        columns += [
+            f"{p.name}_acc_{k}_m_per_s2" for p in vehicle.measurement_points for k in ("y", "z")
+        ]
+        if settings.contact_outputs:
+            columns += [
+                f"ws{i}_{side}_p{k}_{field}"
+                for i in range(1, len(names) + 1)
+                for side in ("left", "right")
+                for k in range(1, K.MAX_POINTS + 1)
+                for field in CONTACT_FIELDS
+            ]
         self.columns = columns
         self.data = np.zeros((n_out, len(columns)))
         col = {c: j for j, c in enumerate(columns)}
@@ -138,6 +196,13 @@ class _Recorder:
              for i in range(1, n_ws + 1)]
         )  # fmt: skip
         self.curved = model.curved
+        self._init_accelerations(vehicle, col)
+        self.c_points = None
+        if settings.contact_outputs:
+            first = col["ws1_left_p1_" + next(iter(CONTACT_FIELDS))]
+            self.c_points = first + np.arange(
+                len(names) * 2 * K.MAX_POINTS * len(CONTACT_FIELDS)
+            ).reshape(len(names), 2, K.MAX_POINTS, len(CONTACT_FIELDS))
         # elastic track: deflections of the rail masses under each wheelset
         self.rail_columns = []
         self.rail_coords = []
@@ -183,7 +248,22 @@ class _Recorder:
         self.n = 0
         self.last_time = -math.inf
 
-    def record(self, t: float, q: np.ndarray, qt: np.ndarray):
+    def _init_accelerations(self, vehicle: Vehicle, col: dict[str, int]) -> None:
+        """Node coordinates and lever arms of the measurement points."""
+        ltg = self.model.ltg
+        points = vehicle.measurement_points
+        self.c_acc = np.array(
+            [[col[f"{p.name}_acc_{k}_m_per_s2"] for k in ("y", "z")] for p in points], dtype=int
+        ).reshape(-1, 2)
+        self.i_acc = np.array([ltg[p.body] for p in points], dtype=int).reshape(-1, 6)
+        centres = {b.name: b.position_m for b in vehicle.bodies}
+        self.lever = np.array([np.subtract(p.position_m, centres[p.body]) for p in points]).reshape(
+            -1, 3
+        )
+
+    def record(
+        self, t: float, q: np.ndarray, qt: np.ndarray, qtt: np.ndarray | None = None
+    ) -> tuple | None:
         """Store the state at time ``t``; returns a status tuple when the run must stop."""
         k = self.n
         if k >= self.data.shape[0]:
@@ -229,6 +309,10 @@ class _Recorder:
             row[self.c_body] = self._body_lateral(q)
         if self.rail_columns:
             row[self.c_rail] = q[self.i_rail]
+        if qtt is not None and self.c_acc.size:
+            row[self.c_acc] = point_accelerations(qtt[self.i_acc], self.lever)
+        if self.c_points is not None:
+            row[self.c_points] = contact_fields(pts)
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track
@@ -420,8 +504,12 @@ def _integrate(model, settings, ss, recorder, progress):
 
     def record(t: float) -> bool:
         """Store one output row at time t; returns False when the run must stop."""
+        data = mbs.systemData
         status = recorder.record(
-            t, mbs.systemData.GetODE2Coordinates(), mbs.systemData.GetODE2Coordinates_t()
+            t,
+            data.GetODE2Coordinates(),
+            data.GetODE2Coordinates_t(),
+            data.GetODE2Coordinates_tt(),
         )
         if status is not None:
             rec["status"] = status

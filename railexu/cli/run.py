@@ -46,6 +46,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "--evaluate-to", type=quantity("m"), help="end of the evaluation window [m] (default: end)"
     )
     p.add_argument(
+        "--contact-outputs",
+        action="store_true",
+        help="record every contact point (position, angle, creepages, forces) in the time series",
+    )
+    p.add_argument(
         "--solver",
         default="generalized_alpha",
         choices=("generalized_alpha", "trapezoidal"),
@@ -119,6 +124,7 @@ def command(args: argparse.Namespace) -> int:
             solver=args.solver,
             evaluate_from_m=args.evaluate_from,
             evaluate_to_m=args.evaluate_to,
+            contact_outputs=args.contact_outputs,
         )
         if not args.quiet:
             print(

@@ -1,0 +1,89 @@
+"""What the recorder adds to the time series: accelerations at measurement points (ride
+comfort) and, on request, every contact point."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railexu.inputs import load_yaml
+from railexu.runs import RunSettings, run
+from railexu.simulation import CONTACT_FIELDS, point_accelerations
+from railexu.track import load_track
+from railexu.vehicle import vehicle_from_dict
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_point_accelerations_of_rigid_body_rotations():
+    """a = a_cg + alpha x r, by hand: yaw acceleration 2 rad/s^2 at 3 m ahead gives 6 m/s^2
+    lateral; roll acceleration 1 rad/s^2 at 1.2 m above gives -1.2 m/s^2 lateral and, at
+    0.5 m to the left, +0.5 m/s^2 vertical; pitch 0.5 rad/s^2 at 4 m ahead gives -2 m/s^2."""
+    qtt = np.array(
+        [
+            [0.0, 0.1, 0.0, 0.0, 0.0, 2.0],
+            [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.3, 0.0, 0.5, 0.0],
+        ]
+    )
+    lever = np.array([[3.0, 0.0, 0.0], [0.0, 0.5, 1.2], [4.0, 0.0, 0.0]])
+    a = point_accelerations(qtt, lever)
+    assert a[0] == pytest.approx([0.1 + 6.0, 0.0])
+    assert a[1] == pytest.approx([-1.2, 0.5])
+    assert a[2] == pytest.approx([0.0, 0.3 - 2.0])
+
+
+@pytest.fixture(scope="module")
+def bogie_run():
+    """The EU07 bogie on ideal straight track from a 3 mm offset, with a point at its centre of
+    gravity (on ideal track the recorded lateral position is the body's own coordinate)."""
+    data, lines = load_yaml(ROOT / "vehicles" / "eu07_bogie.yaml")
+    centre = data["bodies"]["bogie_1"]["position"]
+    data["measurement_points"] = {"cg": {"body": "bogie_1", "position": centre}}
+    vehicle = vehicle_from_dict(data, "eu07_bogie.yaml", lines, ROOT / "vehicles")
+    settings = RunSettings(
+        speed_m_per_s=20.0,
+        distance_m=40.0,
+        initial_lateral_m=0.003,
+        output_interval_s=0.002,
+        contact_outputs=True,
+    )
+    return run(vehicle, load_track(ROOT / "tracks" / "straight.yaml"), settings)
+
+
+def test_acceleration_at_the_centre_of_gravity_is_the_second_derivative_of_its_position(
+    bogie_run,
+):
+    """Kinematics, independent of the recorder's formula: the recorded lateral acceleration at
+    the centre of gravity equals the second difference of the recorded lateral position."""
+    ts = bogie_run.timeseries
+    t, y = ts.time_s, ts["bogie_1_lateral_m"]
+    ok = t > 0.3  # after the start-up
+    y_dd = np.gradient(np.gradient(y, t), t)
+    a = ts["cg_acc_y_m_per_s2"]
+    centre = ok & (t < t[-1] - 0.05)
+    scale = np.max(np.abs(a[centre]))
+    assert scale > 0.05  # the offset excites the bogie
+    # central differences at 2 ms of a signal with content up to ~20 Hz: a few % of the peak
+    assert np.max(np.abs(y_dd[centre] - a[centre])) < 0.05 * scale
+
+
+def test_contact_points_carry_the_wheel_load(bogie_run):
+    """Per wheel, the vertical components of the points' normal forces add up to the wheel
+    load Q: within 2 % on the tread, where the creep forces' vertical share is below
+    mu Q sin(3 deg)."""
+    ts = bogie_run.timeseries
+    for side in ("left", "right"):
+        q = ts[f"ws1_{side}_Q_N"]
+        n = sum(
+            ts[f"ws1_{side}_p{k}_N_N"] * np.cos(ts[f"ws1_{side}_p{k}_angle_rad"]) for k in (1, 2, 3)
+        )
+        assert n == pytest.approx(q, rel=0.02)
+    assert {f"ws2_right_p3_{f}" for f in CONTACT_FIELDS} <= set(ts.columns)
+
+
+def test_the_summary_evaluates_ride_comfort_from_the_recorded_accelerations(bogie_run):
+    comfort = bogie_run.summary["comfort"]["points"]
+    assert set(comfort) == {"cg"}
