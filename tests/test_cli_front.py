@@ -251,3 +251,35 @@ def test_an_output_folder_named_like_the_vehicle_does_not_hide_it(tmp_path):
         done = run_cli(["run", "wheelset", "--out", "wheelset", *SHORT_RUN], cwd=tmp_path)
         assert done.returncode == 0, done.stderr
     assert (tmp_path / "wheelset" / "summary.json").is_file()
+
+
+def test_a_run_that_exceeds_a_safety_limit_says_so_and_exits_1(tmp_path, capsys):
+    """The EU07 bogie carrying 30 kN per spring seat (wheel load Q0 about 56 kN) pushed
+    sideways by 75 kN applied suddenly: the sum of the guiding forces of a wheelset exceeds
+    EN 14363's track-shifting limit alpha (10 kN + 2 Q0 / 3), about 47 kN. The run completes,
+    but not cleanly: status completed_with_exceedances, exit code 1."""
+    import yaml
+
+    data = yaml.safe_load((ROOT / "vehicles" / "eu07_bogie.yaml").read_text())
+    data["loads"]["car_body_share"]["force"] = [0, 0, "-30 kN"]
+    for wheelset in data["wheelsets"].values():
+        wheelset.pop("axle_load", None)
+    data["loads"]["push"] = {
+        "body": "bogie_1",
+        "position": [0.0, 0.0, 0.75],
+        "force": [0.0, "75 kN", 0.0],
+        "static": False,
+    }
+    vehicle = tmp_path / "pushed.yaml"
+    vehicle.write_text(yaml.safe_dump(data))
+    out = tmp_path / "out"
+    status = main(["run", str(vehicle), "--out", str(out), "--distance", "30", "--quiet",
+                   "--plots", "none"])  # fmt: skip
+    summary = json.loads((out / "summary.json").read_text())
+    assert status == 1
+    assert summary["status"]["state"] == "completed_with_exceedances"
+    assert "sum_y" in summary["status"]["reason"]
+    assert summary["assessment"]["safety_exceeded"]
+    sum_y = summary["assessment"]["criteria"]["sum_y"]
+    assert sum_y["value"] > sum_y["limit"]
+    assert "status: completed_with_exceedances" in capsys.readouterr().out
