@@ -36,7 +36,6 @@ from railexu.profiles import (
 
 MM = 1e-3
 CANT_1_40 = math.atan(1.0 / 40.0)
-SHARED_PROFILES = Path(__file__).resolve().parents[1] / ".." / "shared" / "reference" / "profiles"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -430,15 +429,6 @@ def test_mbench_rail_file_is_canted_60e1_with_gauge_side_negative():
     # graph domains correspond after the shift: the file ends where the analytic canted one does
     assert f.y_min == pytest.approx(a.y_min + d, abs=0.02 * MM)
     assert f.y_max == pytest.approx(a.y_max + d, abs=0.02 * MM)
-
-
-def test_shared_reference_copies_are_the_packaged_files():
-    if not SHARED_PROFILES.is_dir():
-        pytest.skip("the original benchmark files are not present")
-    for name in ("MBench_S1002_v3.prw", "MBench_UIC60_v3.prr"):
-        p = read_simpack_profile(SHARED_PROFILES / name)
-        q = mbench_s1002() if name.endswith(".prw") else mbench_uic60()
-        assert np.array_equal(p.outline_m, q.outline_m)
 
 
 # ---------------------------------------------------------------------------------------------
