@@ -65,11 +65,11 @@ def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
             **common,
         )
     return placed_wheelset(
-        {"left": wheelset.wheel_profile, "right": wheelset.wheel_profile_right},
+        {"left": wheelset.wheel_profile, "right": wheelset.profile_right},
         track.rail_profile,
         nominal_radius_m={
             "left": wheelset.nominal_radius_m,
-            "right": wheelset.nominal_radius_right_m,
+            "right": wheelset.radius_right_m,
         },  # fmt: skip
         **common,
     )

@@ -56,6 +56,12 @@ class RunResult:
 
 ProgressCallback = Callable[[float, float, float, float], None]
 
+#: Run states in which the run reached its end: cleanly, or with a safety criterion exceeded
+#: (set by the assessment, :func:`railexu.runs.run`).
+COMPLETED_STATES = ("completed", "completed_with_exceedances")
+#: Every run state: the run's end, or where and why it stopped.
+RUN_STATES = (*COMPLETED_STATES, "derailed", "diverged", "interrupted")
+
 
 def print_progress(stream=sys.stderr) -> ProgressCallback:
     """A progress callback printing distance, speed and time left on one updating line."""

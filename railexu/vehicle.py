@@ -73,7 +73,9 @@ class Wheelset:
 
     ``wheel_profile`` and ``nominal_radius_m`` are the left wheel's (the common value when both
     wheels are alike); ``wheel_profile_right`` and ``nominal_radius_right_m`` the right wheel's
-    (equal to the left ones unless the file gives ``{left: ..., right: ...}``)."""
+    when the file gives ``{left: ..., right: ...}``, else empty (``""``, ``0.0``: as the left
+    one), so that ``dataclasses.replace(wheelset, wheel_profile=...)`` changes both wheels.
+    :attr:`profile_right` and :attr:`radius_right_m` give the right wheel's values."""
 
     name: str
     position_x_m: float
@@ -87,11 +89,15 @@ class Wheelset:
     wheel_profile_right: str = ""
     nominal_radius_right_m: float = 0.0
 
-    def __post_init__(self) -> None:
-        if not self.wheel_profile_right:
-            object.__setattr__(self, "wheel_profile_right", self.wheel_profile)
-        if not self.nominal_radius_right_m:
-            object.__setattr__(self, "nominal_radius_right_m", self.nominal_radius_m)
+    @property
+    def profile_right(self) -> str:
+        """The right wheel's profile."""
+        return self.wheel_profile_right or self.wheel_profile
+
+    @property
+    def radius_right_m(self) -> float:
+        """The right wheel's nominal rolling radius [m]."""
+        return self.nominal_radius_right_m or self.nominal_radius_m
 
     @property
     def position_m(self) -> tuple[float, float, float]:
@@ -101,8 +107,8 @@ class Wheelset:
     def symmetric(self) -> bool:
         """Both wheels have the same profile and radius."""
         return (
-            self.wheel_profile == self.wheel_profile_right
-            and self.nominal_radius_m == self.nominal_radius_right_m
+            self.wheel_profile == self.profile_right
+            and self.nominal_radius_m == self.radius_right_m
         )
 
 
@@ -407,8 +413,8 @@ def _wheelset(sec: Section, name: Any, base_dir: Path | None) -> Wheelset:
         flange_back_distance_m=WHEELSET.read(sec, "flange_back_distance"),
         axle_load_N=WHEELSET.read(sec, "axle_load"),
         estimate=WHEELSET.read(sec, "estimate"),
-        wheel_profile_right=profiles[1],
-        nominal_radius_right_m=right_radius,
+        wheel_profile_right=profiles[1] if profiles[1] != profiles[0] else "",
+        nominal_radius_right_m=right_radius if right_radius != left_radius else 0.0,
     )
 
 

@@ -57,8 +57,8 @@ def _check_wheelset_spacing(vehicle: Vehicle, top: Section) -> None:
     ws = sorted(vehicle.wheelsets, key=lambda w: w.position_x_m)
     for a, b in zip(ws, ws[1:], strict=False):
         gap = b.position_x_m - a.position_x_m
-        reach = max(a.nominal_radius_m, a.nominal_radius_right_m) + max(
-            b.nominal_radius_m, b.nominal_radius_right_m
+        reach = max(a.nominal_radius_m, a.radius_right_m) + max(
+            b.nominal_radius_m, b.radius_right_m
         )
         if gap < reach:
             _fail_at(
@@ -88,7 +88,7 @@ def _outside(vehicle: Vehicle, body_name: str, point) -> str:
     else:
         ws = vehicle.wheelset(body_name)
         centre = ws.position_m
-        r = max(ws.nominal_radius_m, ws.nominal_radius_right_m)
+        r = max(ws.nominal_radius_m, ws.radius_right_m)
         limits = [r + EXTENT_MARGIN_M, WHEELSET_HALF_WIDTH_M, r + EXTENT_MARGIN_M]
     for axis, p, c, lim in zip("xyz", point, centre, limits, strict=True):
         if abs(p - c) > lim:

@@ -257,11 +257,11 @@ def test_asymmetric_wheelset_per_side():
     from railexu.vehicle import vehicle_from_dict
 
     ws = vehicle_from_dict(data, "w.yaml", lines, VEHICLES).wheelsets[0]
-    assert (ws.nominal_radius_m, ws.nominal_radius_right_m) == (0.625, 0.62)
-    assert ws.wheel_profile == ws.wheel_profile_right == "S1002" and not ws.symmetric
+    assert (ws.nominal_radius_m, ws.radius_right_m) == (0.625, 0.62)
+    assert ws.wheel_profile == ws.profile_right == "S1002" and not ws.symmetric
     # a plain value means both sides
     plain = load_vehicle("wheelset").wheelsets[0]
-    assert plain.nominal_radius_right_m == plain.nominal_radius_m == 0.625 and plain.symmetric
+    assert plain.radius_right_m == plain.nominal_radius_m == 0.625 and plain.symmetric
 
 
 def test_format_version_1_is_read_as_version_2():
@@ -329,3 +329,32 @@ def test_box_half_sizes_recover_a_box():
     inertia = (m * (w**2 + h**2) / 12, m * (length**2 + h**2) / 12, m * (length**2 + w**2) / 12)
     body = Body("box", m, inertia, (0.0, 0.0, 1.0))
     assert box_half_sizes_m(body) == pytest.approx((length / 2, w / 2, h / 2), rel=1e-12)
+
+
+def test_different_wheels_left_and_right_reach_the_model_geometry():
+    """A wheelset with wheels of 1250 and 1248 mm: the placed geometry carries each radius, and
+    the wheelset rolls freely off-centre, towards the smaller wheel (EN 15302's asymmetric
+    cases; the contact layer's equilibrium)."""
+    from railexu.contact.conicity import equilibrium_lateral
+    from railexu.contact.evaluation import WheelsetContactModel
+    from railexu.contact.quasistatic import rolling_radius_difference
+    from railexu.model import wheelset_geometry
+    from railexu.track import ideal_straight_track
+
+    vehicle = load_vehicle("wheelset", ["wheelsets.ws1.nominal_radius={left: 0.625, right: 0.624}"])
+    ws = vehicle.wheelsets[0]
+    assert not ws.symmetric and ws.radius_right_m == 0.624
+    geometry = wheelset_geometry(ws, ideal_straight_track())
+    assert geometry.left.nominal_radius_m == 0.625 and geometry.right.nominal_radius_m == 0.624
+    model = WheelsetContactModel(geometry)
+    # centred, the larger left wheel rolls on the larger radius; the wheelset rolls freely where
+    # the radii are equal, shifted towards the smaller (right) wheel
+    assert rolling_radius_difference(model, [0.0])[0] > 0.0
+    y_eq = equilibrium_lateral(model)
+    assert y_eq < 0.0
+    assert rolling_radius_difference(model, [y_eq])[0] == pytest.approx(0.0, abs=2e-5)
+    # and dataclasses.replace of the profile changes both wheels
+    from dataclasses import replace
+
+    both = replace(vehicle.wheelsets[0], wheel_profile="cone:0.05", nominal_radius_right_m=0.0)
+    assert both.profile_right == "cone:0.05" and both.symmetric

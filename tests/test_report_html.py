@@ -110,8 +110,10 @@ def test_run_report_is_self_contained(run_folder):
     assert sum(s.startswith("data:image/png;base64,") for s in images) >= 3  # the figures
     digest = hashlib.sha256((ROOT / "vehicles" / "eu07_bogie.yaml").read_bytes()).hexdigest()
     assert digest in page.cells
-    assert "completed" in text and "max Y/Q (2 m mean) [-]" in page.cells
-    assert sum(t == "table" for t, _ in page.tags) == 3  # inputs, settings, results
+    assert "completed" in text and "max Y/Q (EN 14363) [-]" in page.cells
+    # inputs, settings, results, the assessment's criteria, ride comfort at the body points
+    assert sum(t == "table" for t, _ in page.tags) == 5
+    assert "<h2>Assessment</h2>" in text and "<h2>Ride comfort</h2>" in text
 
 
 def test_study_report_links_its_cases(study_folder):
@@ -191,7 +193,7 @@ def test_run_report_in_chromium(run_folder, tmp_path):
     images = int(re.search(r'data-images="(\d+)"', dom).group(1))
     decoded = int(re.search(r'data-decoded="(\d+)"', dom).group(1))
     assert images >= 5 and decoded == images  # two animations and the figures, all decoded
-    assert dom.count("<table") == 3 and "Results" in dom
+    assert dom.count("<table") == 5 and "Results" in dom and "Assessment" in dom
     shot = tmp_path / "run_report.png"
     done = _chromium(run_folder / "report.html", tmp_path, f"--screenshot={shot}",
                      "--window-size=1200,1800")  # fmt: skip

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..assessment.signals import amplitude
 from ..runs import RunSettings, run
+from ..simulation import COMPLETED_STATES
 from ..track import Track, ideal_straight_track
 from ..vehicle import Vehicle
 from .settings import CriticalSpeedSettings
@@ -49,7 +50,7 @@ def nonlinear_run_is_stable(
         ),
     )
     state = result.status["state"]
-    if state != "completed":
+    if state not in COMPLETED_STATES:
         return {"speed_m_per_s": speed, "stable": False, "amplitude_m": None, "state": state,
                 "reason": result.status["reason"]}  # fmt: skip
     amp, before, growing = _lateral_amplitude(result.timeseries)
@@ -162,7 +163,7 @@ def ramp_critical_speed(
         "speeds_m_per_s": at_speed.tolist(),
         "amplitude_m": amplitude.tolist(),
     }
-    if result.status["state"] != "completed":
+    if result.status["state"] not in COMPLETED_STATES:
         out["note"] = f"the ramp run stopped: {result.status['reason']}"
         return out
     above = amplitude > settings.threshold_m

@@ -18,9 +18,9 @@ from .folder import CASES_DIR, RESULTS_CSV, STUDY_JSON
 from .spec import RESULT_FILES, Case, Study, _did_you_mean
 
 #: Status of a finished case; ``failed`` cases raised (bad override, solver crash, anything).
-STATUSES = ("completed", "derailed", "diverged", "failed")
+STATUSES = ("completed", "completed_with_exceedances", "derailed", "diverged", "failed")
 #: Cases with these statuses are not run again when a study is resumed.
-DONE_STATUSES = ("completed", "derailed", "diverged")
+DONE_STATUSES = ("completed", "completed_with_exceedances", "derailed", "diverged")
 
 
 def _cell(value: Any) -> str:
