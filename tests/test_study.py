@@ -535,6 +535,7 @@ def test_failing_case_is_recorded_and_the_others_complete(tmp_path):
     retried = run_study(path, tmp_path / "out", workers=0, retry_failed=True)
     assert retried.ran == 1 and retried.counts == {
         "completed": 1,
+        "completed_with_exceedances": 0,
         "derailed": 0,
         "diverged": 0,
         "failed": 1,

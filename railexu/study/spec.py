@@ -355,14 +355,48 @@ def load_study(path: str | Path) -> Study:
             f"format_version {version} is not supported (this railexu reads {FORMAT_VERSION})",
             key="format_version",
         )
-    name = top.string("name")
-    description = top.string("description", default="")
     analysis = top.string("analysis", default="run", choices=ANALYSES)
-    plots = top.boolean("plots", default=False)
     base = top.section("base", BASE_KEYS)
-    here = path.parent
+    inputs = _base_inputs(base, path.parent, source, lines)
+    run_data, cs_data, cs_keys = _base_settings(top, base, analysis, source, lines)
+    combine, parameters = _parameters(top, analysis, inputs, cs_keys)
+    collect = _checked_collect(top, analysis, parameters, source, lines)
+    return Study(
+        source=source,
+        name=top.string("name"),
+        description=top.string("description", default=""),
+        analysis=analysis,
+        vehicle=inputs.vehicle_path,
+        track=inputs.track_path,
+        run=run_data,
+        critical_speed=cs_data,
+        set=inputs.set_items,
+        combine=combine,
+        parameters=parameters,
+        collect=collect,
+        plots=top.boolean("plots", default=False),
+        fingerprint=_fingerprint(analysis, inputs, run_data, cs_data),
+        lines=lines,
+    )
 
-    # base files and overrides
+
+@dataclass(frozen=True)
+class _BaseInputs:
+    """The base vehicle and track of a study: files, raw data with the base overrides applied,
+    lines, and the overrides themselves."""
+
+    vehicle_path: Path
+    vehicle_raw: Any
+    vehicle_lines: dict
+    track_path: Path | None
+    track_raw: Any
+    track_lines: dict
+    set_items: tuple[str, ...]
+
+
+def _base_inputs(base: Section, here: Path, source: str, lines: dict) -> _BaseInputs:
+    """Read the base vehicle and track files, apply the base overrides and validate both (an
+    error in a key that an override set points at the override's line)."""
     vehicle_path = _study_file(base, "vehicle", here)
     track_path = _study_file(base, "track", here) if base.has("track") else None
     set_items = base.string_list("set")
@@ -390,12 +424,23 @@ def load_study(path: str | Path) -> Study:
             line=_line(lines, ("base", "set", i)),
             key=f"base.set.{i}",
         )
+    inputs = _BaseInputs(
+        vehicle_path, vehicle_raw, vehicle_lines, track_path, track_raw, track_lines,
+        tuple(set_items),
+    )  # fmt: skip
+    _validate_base(inputs, split, source, lines)
+    return inputs
+
+
+def _validate_base(inputs: _BaseInputs, split: list, source: str, lines: dict) -> None:
     from ..track import track_from_dict
     from ..vehicle import vehicle_from_dict
 
-    checks = [("vehicle", vehicle_from_dict, vehicle_raw, vehicle_path, vehicle_lines)]
-    if track_path is not None:
-        checks.append(("track", track_from_dict, track_raw, track_path, track_lines))
+    checks = [("vehicle", vehicle_from_dict, inputs.vehicle_raw, inputs.vehicle_path,
+               inputs.vehicle_lines)]  # fmt: skip
+    if inputs.track_path is not None:
+        checks.append(("track", track_from_dict, inputs.track_raw, inputs.track_path,
+                       inputs.track_lines))  # fmt: skip
     for target, reader, raw, file, file_lines in checks:
         try:
             reader(raw, str(file), file_lines, file.parent)
@@ -408,10 +453,12 @@ def load_study(path: str | Path) -> Study:
                                      key=f"base.set.{i}") from None  # fmt: skip
             raise
 
-    # base settings of the analysis
-    run_data: dict = {}
-    cs_data: dict = {}
-    cs_keys: Sequence[str] | None = None
+
+def _base_settings(
+    top: Section, base: Section, analysis: str, source: str, lines: dict
+) -> tuple[dict, dict, Sequence[str] | None]:
+    """The base run settings (analysis ``run``) or critical-speed settings, validated; and the
+    critical-speed keys a parameter may vary."""
     if analysis == "run":
         if base.has("critical_speed"):
             base.fail("only used with 'analysis: critical_speed'", key="critical_speed")
@@ -419,21 +466,24 @@ def load_study(path: str | Path) -> Study:
 
         run_data = _mapping(base, "run")
         run_settings_from_dict(run_data, source, lines, ("base", "run"))
-    else:
-        if base.has("run"):
-            base.fail(
-                "not used by 'analysis: critical_speed': give the run options (distance, "
-                "time_step, initial_lateral) in base.critical_speed",
-                key="run",
-            )
-        stability = _stability_module(top)
-        cs_data = _mapping(base, "critical_speed")
-        stability.critical_speed_settings_from_dict(
-            cs_data, source, lines, ("base", "critical_speed")
+        return run_data, {}, None
+    if base.has("run"):
+        base.fail(
+            "not used by 'analysis: critical_speed': give the run options (distance, "
+            "time_step, initial_lateral) in base.critical_speed",
+            key="run",
         )
-        cs_keys = getattr(stability, "CRITICAL_SPEED_KEYS", None)
+    stability = _stability_module(top)
+    cs_data = _mapping(base, "critical_speed")
+    stability.critical_speed_settings_from_dict(cs_data, source, lines, ("base", "critical_speed"))
+    return {}, cs_data, getattr(stability, "CRITICAL_SPEED_KEYS", None)
 
-    # parameters
+
+def _parameters(
+    top: Section, analysis: str, inputs: _BaseInputs, cs_keys: Sequence[str] | None
+) -> tuple[str, tuple[Parameter, ...]]:
+    """The varied parameters and how they combine; ``zip`` lengths and the number of cases
+    checked."""
     vary = top.section("vary", VARY_KEYS)
     combine = vary.string("combine", default="product", choices=COMBINE)
     items = vary.items("parameters")
@@ -442,8 +492,8 @@ def load_study(path: str | Path) -> Study:
                   key="parameters")  # fmt: skip
     context = {
         "analysis": analysis,
-        "vehicle": (vehicle_raw, vehicle_path, vehicle_lines),
-        "track": (track_raw, track_path, track_lines),
+        "vehicle": (inputs.vehicle_raw, inputs.vehicle_path, inputs.vehicle_lines),
+        "track": (inputs.track_raw, inputs.track_path, inputs.track_lines),
         "cs_keys": cs_keys,
     }
     parameters = tuple(_parameter(str(key), raw, vary, context) for key, raw in items)
@@ -459,8 +509,13 @@ def load_study(path: str | Path) -> Study:
     if n_cases > MAX_CASES:
         vary.fail(f"{n_cases} cases is more than {MAX_CASES}: is a step or a unit wrong?",
                   key="parameters")  # fmt: skip
+    return combine, parameters
 
-    # results to collect
+
+def _checked_collect(
+    top: Section, analysis: str, parameters: tuple[Parameter, ...], source: str, lines: dict
+) -> tuple[str, ...]:
+    """The results to collect, none collected twice or named like another column."""
     collect = _collect(top, analysis)
     columns = ["case_id"] + [c for p in parameters for c in p.columns]
     for i, c in enumerate(collect):
@@ -469,33 +524,22 @@ def load_study(path: str | Path) -> Study:
             what = "is collected twice" if not clash else "is also the name of another column"
             raise InputError(f"{c!r} {what}", source=source, line=_line(lines, ("collect", i)),
                              key=f"collect.{i}")  # fmt: skip
+    return collect
 
+
+def _fingerprint(analysis: str, inputs: _BaseInputs, run_data: dict, cs_data: dict) -> dict:
+    """SHA-256 digests of what decides a case's result besides its parameter values."""
+    track_raw = inputs.track_raw
     fingerprint = {
         "analysis": analysis,
-        "vehicle": _sha256(_json_safe(vehicle_raw)),
+        "vehicle": _sha256(_json_safe(inputs.vehicle_raw)),
         "track": _sha256(_json_safe(track_raw)) if track_raw is not None else "ideal straight",
         "run": _sha256(_json_safe(run_data)),
         "critical_speed": _sha256(_json_safe(cs_data)),
-        "set": _sha256(list(set_items)),
+        "set": _sha256(list(inputs.set_items)),
     }
     fingerprint["digest"] = _sha256(fingerprint)
-    return Study(
-        source=source,
-        name=name,
-        description=description,
-        analysis=analysis,
-        vehicle=vehicle_path,
-        track=track_path,
-        run=run_data,
-        critical_speed=cs_data,
-        set=tuple(set_items),
-        combine=combine,
-        parameters=parameters,
-        collect=collect,
-        plots=plots,
-        fingerprint=fingerprint,
-        lines=lines,
-    )
+    return fingerprint
 
 
 def _line(lines: dict, path: KeyPath) -> int | None:
