@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -210,32 +211,56 @@ def read_simpack_profile(
         ProfileError: naming the file, the line and what was expected.
     """
     path = Path(path)
+    parsed = _parse_simpack(path)
+    kind = _simpack_kind(path, parsed)
+    data, line_no, len_f = _process_simpack_points(path, parsed)
+    lateral = data[:, 0].copy()
+    height = data[:, 1].copy() if kind == "wheel" else -data[:, 1]
+    smooth = float(parsed.spline["approx.smooth"][0]) if "approx.smooth" in parsed.spline else 0.0
+    return _profile_from_points(
+        lateral,
+        height,
+        line_no,
+        kind=kind,
+        path=path,
+        name=name or path.stem,
+        source=f"SIMPACK file {path}",
+        flange_back_m=flange_back_m,
+        inclination_rad=float(inclination_rad),
+        smooth=smooth / len_f**3 if smooth > 0.0 else 0.0,
+        weights=data[:, 2],
+    )
+
+
+@dataclass
+class _SimpackFile:
+    """The blocks of a SIMPACK profile file as read: header and spline keys (value, line), the
+    point lines (y, z, weight) with their line numbers."""
+
+    n_lines: int
+    header: dict[str, tuple[object, int]] = field(default_factory=dict)
+    spline: dict[str, tuple[object, int]] = field(default_factory=dict)
+    points: list[tuple[float, float, float]] = field(default_factory=list)
+    point_lines: list[int] = field(default_factory=list)
+    seen_point_block: bool = False
+
+
+def _parse_simpack(path: Path) -> _SimpackFile:
+    """Read the blocks (``header``, ``spline``, ``point``) of a SIMPACK profile file."""
     try:
         text = path.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         raise ProfileError(f"{path}: cannot read the profile file ({exc.strerror})") from exc
     lines = text.splitlines()
+    out = _SimpackFile(len(lines))
     section: list[tuple[str, int]] = []
-    header: dict[str, tuple[float, int]] = {}
-    spline: dict[str, tuple[object, int]] = {}
-    points: list[tuple[float, float, float]] = []
-    point_lines: list[int] = []
-    seen_point_block = False
     for lineno, raw in enumerate(lines, start=1):
         s = _strip_comment(raw).strip()
         if not s:
             continue
         m = re.fullmatch(r"([A-Za-z_][\w.]*)\.(begin|end)", s)
         if m:
-            block, what = m.group(1).lower(), m.group(2)
-            if what == "begin":
-                section.append((block, lineno))
-                seen_point_block |= block == "point"
-            else:
-                if not section or section[-1][0] != block:
-                    open_block = f"{section[-1][0]}.end" if section else "no '.end' here"
-                    raise _err(path, lineno, f"unexpected '{s}': expected {open_block}")
-                section.pop()
+            _simpack_block(path, lineno, s, m.group(1).lower(), m.group(2), section, out)
             continue
         current = section[-1][0] if section else None
         if current == "point":
@@ -246,54 +271,88 @@ def read_simpack_profile(
                 values = []
             if len(values) not in (2, 3):
                 raise _err(path, lineno, f"'{s}': expected a point line 'y z [weight]'")
-            points.append((values[0], values[1], values[2] if len(values) == 3 else 1.0))
-            point_lines.append(lineno)
-            continue
-        if "=" in s and current in ("header", "spline"):
-            key, value = (p.strip() for p in s.split("=", 1))
-            key = key.lower()
-            target = header if current == "header" else spline
-            if key in _SIMPACK_REAL_KEYS or key in _SIMPACK_INT_KEYS:
-                try:
-                    number = float(value)
-                except ValueError:
-                    raise _err(path, lineno, f"{key} = {value!r}: expected a number") from None
-                if key in _SIMPACK_INT_KEYS:
-                    if number != round(number):
-                        raise _err(path, lineno, f"{key} = {value!r}: expected an integer")
-                    number = int(round(number))
-                target[key] = (number, lineno)
-            else:
-                target[key] = (value.strip("'\""), lineno)
-            continue
-        if current in ("header", "spline"):
+            out.points.append((values[0], values[1], values[2] if len(values) == 3 else 1.0))
+            out.point_lines.append(lineno)
+        elif "=" in s and current in ("header", "spline"):
+            target = out.header if current == "header" else out.spline
+            _simpack_key(path, lineno, s, target)
+        elif current in ("header", "spline"):
             raise _err(path, lineno, f"'{s}': expected 'key = value'")
-        if current is None:
+        elif current is None:
             raise _err(path, lineno, f"'{s}': expected 'header.begin' or 'spline.begin'")
     if section:
         block, start = section[-1]
         raise _err(
             path, len(lines), f"'{block}.begin' of line {start} is not closed by '{block}.end'"
         )
-    if "type" not in header:
+    return out
+
+
+def _simpack_block(
+    path: Path, lineno: int, s: str, block: str, what: str, section: list, out: _SimpackFile
+) -> None:
+    """A ``name.begin`` or ``name.end`` line: open or close a block."""
+    if what == "begin":
+        section.append((block, lineno))
+        out.seen_point_block |= block == "point"
+        return
+    if not section or section[-1][0] != block:
+        open_block = f"{section[-1][0]}.end" if section else "no '.end' here"
+        raise _err(path, lineno, f"unexpected '{s}': expected {open_block}")
+    section.pop()
+
+
+def _simpack_key(path: Path, lineno: int, s: str, target: dict) -> None:
+    """A ``key = value`` line of the header or spline block (numbers where SIMPACK has them)."""
+    key, value = (p.strip() for p in s.split("=", 1))
+    key = key.lower()
+    if key not in _SIMPACK_REAL_KEYS and key not in _SIMPACK_INT_KEYS:
+        target[key] = (value.strip("'\""), lineno)
+        return
+    try:
+        number = float(value)
+    except ValueError:
+        raise _err(path, lineno, f"{key} = {value!r}: expected a number") from None
+    if key in _SIMPACK_INT_KEYS:
+        if number != round(number):
+            raise _err(path, lineno, f"{key} = {value!r}: expected an integer")
+        number = int(round(number))
+    target[key] = (number, lineno)
+
+
+def _simpack_kind(path: Path, parsed: _SimpackFile) -> str:
+    """``"wheel"`` or ``"rail"`` from the header's type, checked against the extension and the
+    point block."""
+    if "type" not in parsed.header:
         raise _err(path, None, "no 'type' in a header block: expected header.begin/type = 0|1")
-    ptype, tline = header["type"]
+    ptype, tline = parsed.header["type"]
     if ptype not in (0, 1):
         raise _err(path, tline, f"header type = {ptype}: expected 0 (rail) or 1 (wheel)")
     kind = "wheel" if ptype == 1 else "rail"
     ext = path.suffix.lower()
     if (ext == ".prw" and kind != "wheel") or (ext == ".prr" and kind != "rail"):
         raise _err(path, tline, f"header type = {ptype} ({kind}) contradicts the extension {ext}")
-    if not seen_point_block:
-        raise _err(path, len(lines), "no point block: expected 'point.begin' ... 'point.end'")
-    if len(points) < 4:
-        raise _err(path, len(lines), f"{len(points)} points in the point block: expected >= 4")
+    if not parsed.seen_point_block:
+        raise _err(path, parsed.n_lines, "no point block: expected 'point.begin' ... 'point.end'")
+    if len(parsed.points) < 4:
+        raise _err(
+            path, parsed.n_lines, f"{len(parsed.points)} points in the point block: expected >= 4"
+        )
+    return kind
+
+
+def _process_simpack_points(
+    path: Path, parsed: _SimpackFile
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """SIMPACK's seven processing steps on the points (see :func:`read_simpack_profile`);
+    returns the points (y, z in m, weight), their line numbers and the length unit factor."""
+    spline = parsed.spline
 
     def opt(key: str, default: float) -> float:
         return float(spline[key][0]) if key in spline else default
 
-    data = np.asarray(points, dtype=np.float64)
-    line_no = np.asarray(point_lines)
+    data = np.asarray(parsed.points, dtype=np.float64)
+    line_no = np.asarray(parsed.point_lines)
     # 1: minimum point distance
     dmin = opt("point.dist.min", 0.0)
     if dmin > 0.0:
@@ -306,8 +365,7 @@ def read_simpack_profile(
     data[:, 0] += opt("shift.y", 0.0)
     data[:, 1] += opt("shift.z", 0.0)
     # 3: rotation about x
-    ang_f = _unit_factor(spline, "units.ang", 1.0, path)
-    a = opt("rotate", 0.0) / ang_f
+    a = opt("rotate", 0.0) / _unit_factor(spline, "units.ang", 1.0, path)
     if a != 0.0:
         c, s = math.cos(a), math.sin(a)
         y0, z0 = data[:, 0].copy(), data[:, 1].copy()
@@ -331,22 +389,7 @@ def read_simpack_profile(
     # 7: length unit
     len_f = _unit_factor(spline, "units.len", 1000.0, path)
     data[:, :2] /= len_f
-    lateral = data[:, 0].copy()
-    height = data[:, 1].copy() if kind == "wheel" else -data[:, 1]
-    smooth = opt("approx.smooth", 0.0)
-    return _profile_from_points(
-        lateral,
-        height,
-        line_no,
-        kind=kind,
-        path=path,
-        name=name or path.stem,
-        source=f"SIMPACK file {path}",
-        flange_back_m=flange_back_m,
-        inclination_rad=float(inclination_rad),
-        smooth=smooth / len_f**3 if smooth > 0.0 else 0.0,
-        weights=data[:, 2],
-    )
+    return data, line_no, len_f
 
 
 def _unit_factor(spline: dict, key: str, default: float, path: Path) -> float:
