@@ -28,8 +28,9 @@ class InputError(ValueError):
         self.detail = message
 
 
-def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
-    """`` Did you mean 'x'?`` for the closest of ``choices``, else `` Known: a, b, c``.
+def did_you_mean(name: str, choices, cutoff: float = 0.6, n: int = 1, known: bool = True) -> str:
+    """`` Did you mean 'x'?`` for the closest of ``choices`` (up to ``n``, case-insensitive),
+    else `` Known: a, b, c`` (or nothing when ``known`` is false).
 
     The one did-you-mean helper of railexu (loaders, registries, overrides, the command line).
     Returns a string that starts with a space, ready to append to a message.
@@ -37,10 +38,11 @@ def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
     import difflib
 
     names = [str(c) for c in choices]
-    close = difflib.get_close_matches(str(name), names, n=1, cutoff=cutoff)
+    lower = {c.lower(): c for c in names}
+    close = difflib.get_close_matches(str(name).lower(), list(lower), n=n, cutoff=cutoff)
     if close:
-        return f" Did you mean {close[0]!r}?"
-    return f" Known: {', '.join(names)}" if names else ""
+        return " Did you mean " + " or ".join(repr(lower[c]) for c in close) + "?"
+    return f" Known: {', '.join(names)}" if names and known else ""
 
 
 class ComputationError(RuntimeError):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+from .contact.placement import STANDARD_GAUGE_M
 from .inputs import OPTIONAL, REQUIRED, Field, Schema
 from .irregularities import COMPONENTS, available_spectra
 
@@ -117,7 +118,7 @@ TRACK = Schema(
               "angle ('0.025 rad', '1.43 deg'); an unquoted 1:40 is read as the ratio",
               "inclination", default="1:40", minimum=0.0, maximum=MAX_INCLINATION_RAD),
         Field("gauge", "track gauge, measured 14 mm below the top of rail (EN 13848-1)",
-              unit="m", default=1.435, minimum=1.0, maximum=2.0),
+              unit="m", default=STANDARD_GAUGE_M, minimum=1.0, maximum=2.0),
         Field("geometry", "track geometry by `type`", "model", default={"type": "straight"},
               models=GEOMETRY, selector="type"),
         Field("track_model", "rigid, or elastic (`elastic` or {type: elastic, ...})", "model",

@@ -9,6 +9,7 @@ tables of ``docs/vehicle-format.md`` are generated from it (``python -m railexu.
 from __future__ import annotations
 
 from .contact.parameters import CREEP_MODELS, DAMPING_MODELS, ContactParameters
+from .contact.placement import STANDARD_FLANGE_BACK_M
 from .inputs import OPTIONAL, Field, Schema
 
 #: The format this railexu writes; :data:`READ_VERSIONS` are the ones it reads.
@@ -119,7 +120,7 @@ WHEELSET = Schema(
         Field("nominal_radius", "rolling radius at the tape circle; {left:, right:} allowed",
               "sided", "m", minimum=0.2, maximum=1.0),
         Field("flange_back_distance", "distance between the backs of the two flanges",
-              unit="m", default=1.360, minimum=0.9, maximum=1.7),
+              unit="m", default=STANDARD_FLANGE_BACK_M, minimum=0.9, maximum=1.7),
         Field("axle_load", "declared static axle load, checked against the statics (2 %)",
               unit="N", default=OPTIONAL, positive=True, maximum=1e7),
         _ESTIMATE,

@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "railexu.errors": 0,
     "railexu.units": 0,
     "railexu.version": 0,
+    "railexu.jsonable": 0,
     "railexu.inputs": 1,
     "railexu.schema": 10,  # renders the docs of every input, the study's too: beside the cli
     "railexu.catalog": 1,

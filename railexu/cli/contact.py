@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from ..contact.placement import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
 from .common import CliError, parse_range, quantity
 
 #: Largest sweep (lateral positions, amplitudes) the command accepts.
@@ -57,10 +58,16 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--rail", default="UIC60", help="built-in rail profile or file (.prr, y-z)")
     p.add_argument("--inclination", default="1:40", help="rail inclination: 1:40, 1:20 or none")
     p.add_argument(
-        "--gauge", type=quantity("m"), default=1.435, help="track gauge [m] (14 mm below top)"
+        "--gauge",
+        type=quantity("m"),
+        default=STANDARD_GAUGE_M,
+        help="track gauge [m] (14 mm below top)",
     )
     p.add_argument(
-        "--flange-back", type=quantity("m"), default=1.360, help="flange-back distance [m]"
+        "--flange-back",
+        type=quantity("m"),
+        default=STANDARD_FLANGE_BACK_M,
+        help="flange-back distance [m]",
     )
     p.add_argument("--radius", type=quantity("m"), default=0.46, help="nominal rolling radius [m]")
     p.add_argument("--radius-left", type=quantity("m"), default=None, help="left wheel radius [m]")

@@ -24,7 +24,7 @@ from .evaluation import ContactParameters, ContactPoint, WheelsetContactModel
 from .kalker import kalker_coefficients
 from .kik_piotrowski import patch_creep_forces, wheel_point_patch
 from .parameters import ContactParameterError
-from .placement import wheelset_geometry
+from .placement import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M, wheelset_geometry
 from .quasistatic import ContactSolveError, PressedWheelset, press_free_rolling, press_wheelset
 
 #: Rolling conditions of :func:`contact_check`.
@@ -113,8 +113,8 @@ class ContactCheckSettings:
     wheel: str = "S1002"
     rail: str = "UIC60"
     inclination: str | float = "1:40"
-    gauge_m: float = 1.435
-    flange_back_m: float = 1.360
+    gauge_m: float = STANDARD_GAUGE_M
+    flange_back_m: float = STANDARD_FLANGE_BACK_M
     radius_m: float = 0.46
     lateral_m: tuple[float, ...] = tuple(np.round(np.arange(0.0, 0.01 + 1e-12, 0.0005), 10))
     yaw_per_lateral_rad_per_m: float = 0.0

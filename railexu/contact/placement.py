@@ -26,6 +26,12 @@ TABLE_STEP_M = 5.0e-5
 
 #: Default gauge measurement depth below the top of rail [m] (EN 13848-1).
 GAUGE_MEASUREMENT_DEPTH_M = 0.014
+#: Standard gauge [m] (EN 13848-1: 1435 mm, measured 14 mm below the top of rail): the one
+#: declaration of this default; track files and commands take theirs from here.
+STANDARD_GAUGE_M = 1.435
+#: Flange-back distance of standard-gauge wheelsets [m] (EN 13260: 1360 mm): the one
+#: declaration of this default.
+STANDARD_FLANGE_BACK_M = 1.360
 
 
 class PlacementError(InputError):
@@ -125,8 +131,8 @@ def place_wheel_rail(
     *,
     nominal_radius_m: float,
     inclination: str | float | None = "1:40",
-    gauge_m: float = 1.435,
-    flange_back_distance_m: float = 1.360,
+    gauge_m: float = STANDARD_GAUGE_M,
+    flange_back_distance_m: float = STANDARD_FLANGE_BACK_M,
     gauge_depth_m: float = GAUGE_MEASUREMENT_DEPTH_M,
     table_step_m: float = TABLE_STEP_M,
 ) -> WheelRailPair:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import functools
 import math
 import os
@@ -10,6 +9,7 @@ from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 
+from ..errors import did_you_mean
 from .builtin import cone_wheel, flat_rail, rail_60e1, round_rail, s1002
 from .core import Profile, ProfileError
 from .readers import read_declared_text_profile, read_simpack_profile
@@ -113,13 +113,7 @@ def _lookup(name_or_path: str | os.PathLike, kind: str) -> Profile:
     )
     if not looks_like_path:
         names = list(table)
-        close = difflib.get_close_matches(
-            text.strip().lower(), [n.lower() for n in names], n=3, cutoff=0.5
-        )
-        suggestion = ""
-        if close:
-            proper = [next(n for n in names if n.lower() == c) for c in close]
-            suggestion = " Did you mean " + " or ".join(repr(p) for p in proper) + "?"
+        suggestion = did_you_mean(text.strip(), names, cutoff=0.5, n=3, known=False)
         ext = ".prw" if kind == "wheel" else ".prr"
         shapes = PARAMETRIC_WHEELS if kind == "wheel" else PARAMETRIC_RAILS
         raise ProfileError(

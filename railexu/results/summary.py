@@ -18,11 +18,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..assessment.comfort import PointComfort
 from ..assessment.criterion import Criterion, finite_or_none
 from ..assessment.hunting import HuntingResult
+from ..jsonable import jsonable
 from .timeseries import ResultsError
 
 #: Version of the ``summary.json`` layout (1: before the typed summary and the assessment).
@@ -225,25 +224,7 @@ class RunSummary(Mapping):
 # ----------------------------------------------------------------------------------------------
 
 
-def _jsonable(obj: Any) -> Any:
-    """A JSON-serialisable copy: numpy scalars and arrays to Python, non-finite to None."""
-    if hasattr(obj, "to_dict") and callable(obj.to_dict):
-        return _jsonable(obj.to_dict())
-    if isinstance(obj, Mapping):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [_jsonable(v) for v in obj.tolist()]
-    if isinstance(obj, bool | np.bool_):
-        return bool(obj)
-    if isinstance(obj, int | np.integer):
-        return int(obj)
-    if isinstance(obj, float | np.floating):
-        return finite_or_none(obj)
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
+_jsonable = jsonable
 
 
 def write_summary(summary: Mapping[str, Any] | RunSummary, path: str | Path) -> Path:

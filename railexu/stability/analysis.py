@@ -3,12 +3,10 @@ nonlinear values differ when they do."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import asdict
 
-import numpy as np
-
+from ..jsonable import jsonable
 from ..track import Track, ideal_straight_track
 from ..vehicle import Vehicle
 from .linear import HUNTING_MODES, linear_stability
@@ -109,13 +107,4 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     )
 
 
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, float | np.floating):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, np.integer | np.bool_):
-        return obj.item()
-    return obj
+_jsonable = jsonable

@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 
 METHODS = ("linear", "bisection", "ramp")
 LINEARIZATIONS = ("equivalent_conicity", "profiles")
@@ -145,9 +145,6 @@ def parse_methods(text: str | Sequence[str]) -> tuple[str, ...]:
     methods = tuple(m.strip() for m in items if m.strip())
     for m in methods:
         if m not in METHODS:
-            import difflib
-
-            close = difflib.get_close_matches(m, METHODS, n=1)
-            hint = f" Did you mean {close[0]!r}?" if close else ""
+            hint = did_you_mean(m, METHODS, known=False)
             raise StabilityError(f"unknown method {m!r}.{hint} Valid: {', '.join(METHODS)}")
     return methods
