@@ -63,6 +63,7 @@ def test_run_writes_timeseries_summary_and_plots(tmp_path, capsys):
     assert abs(summary["max_Y_over_Q"]["nadal_limit"] - nadal) < 1e-3
     pngs = {p.name for p in out.glob("*.png")}
     assert pngs == {
+        "accelerations.png",  # at the car body's (here: the bogie frame's) measurement points
         "lateral_displacement.png",
         "lateral_force.png",
         "y_over_q.png",
