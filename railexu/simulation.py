@@ -52,6 +52,9 @@ class RunResult:
     track: Track
     timings_s: dict = field(default_factory=dict)
     model: VehicleModel | None = field(default=None, repr=False)
+    #: the kernel's contact points at every output time, ``(n, n_ws, 2, MAX_POINTS, fields)``
+    #: with the fields of :data:`POINT_FIELDS` (wheelsets from the front), or None
+    contact_points: np.ndarray | None = field(default=None, repr=False)
 
 
 ProgressCallback = Callable[[float, float, float, float], None]
@@ -104,6 +107,25 @@ CONTACT_FIELDS = {
     "a_m": K.PF_A,
     "b_m": K.PF_B,
     "Tgamma_N": -1,  # |Fx xi + Fy eta|: the wear number (Pearce and Sherratt 1991)
+}
+
+
+#: The kernel fields of every contact point a run keeps in memory (``RunResult.contact_points``,
+#: last axis): active flag, position on the wheel profile, track-frame position, contact angle,
+#: normal force, semi-axes, tangential forces in the contact frame.
+POINT_FIELDS = {
+    "active": K.PF_ACTIVE,
+    "wheel_s_m": K.PF_S,
+    "y_m": K.PF_Y,
+    "z_m": K.PF_Z,
+    "angle_rad": K.PF_ANGLE,
+    "N_N": K.PF_N,
+    "a_m": K.PF_A,
+    "b_m": K.PF_B,
+    "Fx_N": K.PF_FX,
+    "Fy_N": K.PF_FY,
+    "FY_N": K.PF_FTY,
+    "FZ_N": K.PF_FTZ,
 }
 
 
@@ -203,6 +225,9 @@ class _Recorder:
         )  # fmt: skip
         self.curved = model.curved
         self._init_accelerations(vehicle, col)
+        # the kernel's contact points at every output time, kept in memory for the state file
+        # of the animations (the time series carries them only with contact_outputs)
+        self.point_data = np.zeros((n_out, len(names), 2, K.MAX_POINTS, len(POINT_FIELDS)))
         self.c_points = None
         if settings.contact_outputs:
             first = col["ws1_left_p1_" + next(iter(CONTACT_FIELDS))]
@@ -319,6 +344,7 @@ class _Recorder:
             row[self.c_acc] = point_accelerations(qtt[self.i_acc], self.lever)
         if self.c_points is not None:
             row[self.c_points] = contact_fields(pts)
+        self.point_data[k] = pts[..., list(POINT_FIELDS.values())]
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track
@@ -457,7 +483,8 @@ def simulate(
     warnings += list(model.axle_load_warnings)
     if warnings:
         facts["warnings"] = warnings
-    return RunResult(ts, facts, status, settings, vehicle, track, timings, model)
+    points = recorder.point_data[: len(ts)]
+    return RunResult(ts, facts, status, settings, vehicle, track, timings, model, points)
 
 
 def _flange_heights(model: VehicleModel) -> list[float]:

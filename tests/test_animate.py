@@ -73,7 +73,11 @@ def test_state_file_holds_the_run(bogie_run):
     np.testing.assert_array_equal(state.wheelset_pose[:, 0, 0], ts["ws1_lateral_m"])
     np.testing.assert_array_equal(state.wheelset_pose[:, 1, 3], ts["ws2_yaw_rad"])
     assert state.wheelset_x_m.tolist() == pytest.approx([1.5, -1.5])  # eu07_bogie.yaml
-    assert state.contact_source == "pose"
+    # the run's own contact points: their vertical forces add up to the recorded wheel loads
+    assert state.contact_source == "kernel"
+    fz = state.contacts[..., CF["FZ_N"]].sum(axis=-1)
+    # (the state file stores single precision: 1e-7 of the load)
+    np.testing.assert_allclose(fz[:, 0, 0], ts["ws1_left_Q_N"], rtol=1e-6, atol=1e-3)
     assert state.meta["vehicle"] == "EU07 bogie"
     assert state.meta["vehicle_file"].endswith("eu07_bogie.yaml")
     assert len(state.meta["vehicle_sha256"]) == 64
@@ -317,7 +321,7 @@ def test_recorded_contact_columns_are_used(bogie_run):
                 columns[stem + "N_N"] = row[:, K.PF_N]
                 columns[stem + "Fx_N"] = row[:, K.PF_FX]
                 columns[stem + "Fy_N"] = row[:, K.PF_FY]
-    recorded = dataclasses.replace(result, timeseries=TimeSeries(columns))
+    recorded = dataclasses.replace(result, timeseries=TimeSeries(columns), contact_points=None)
     state = state_from_run(recorded)
     assert state.contact_source == "recorded"
     c = state.contacts

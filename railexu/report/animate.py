@@ -150,7 +150,7 @@ class ContactView:
         name = state.wheelset_names[self.ws]
         source = (
             "points and forces as recorded"
-            if state.contact_source == "recorded"
+            if state.contact_source in ("kernel", "recorded")
             else "points from the recorded pose, forces: recorded wheel totals Y, Q shared"
         )
         self.fig.suptitle(

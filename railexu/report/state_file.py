@@ -11,8 +11,10 @@ read it. It holds, at every output time,
 - the contact points of every wheel: position in the track's cross-section, contact angle,
   semi-axes of the ellipse, normal and tangential forces.
 
-Contact points come from the recorder's per-point columns (``ws{i}_{side}_p{k}_...``) when the
-run wrote them (``contact_source = "recorded"``). Otherwise they are found again from each
+Contact points are those the run's kernel found, kept by the recorder at every output time
+(``RunResult.contact_points``: ``contact_source = "kernel"``), or the recorder's per-point
+columns (``ws{i}_{side}_p{k}_...``, ``"recorded"``) of a run read back from its files. Without
+either they are found again from each
 recorded pose with the run's own contact kernel (:class:`railexu.contact.evaluation.
 WheelsetContactModel`); the pose does not hold the velocities, so the forces of each wheel are
 then the recorded totals ``Y`` and ``Q`` shared between its points in proportion to their normal
@@ -230,10 +232,29 @@ def state_from_run(result: RunResult) -> RunState:
     for j, b in enumerate(vehicle.bodies):
         state.body_lateral_m[:, j] = _col(ts, f"{b.name}_lateral_m", n)
     _body_yaw(state, ts, vehicle)
-    _pose_contacts(state, model, order)
-    if _has_point_columns(ts):
-        _recorded_contacts(state, ts)
+    points = getattr(result, "contact_points", None)
+    if points is not None and points.shape[0] == n:
+        _kernel_contacts(state, points)
+    else:
+        _pose_contacts(state, model, order)
+        if _has_point_columns(ts):
+            _recorded_contacts(state, ts)
     return state
+
+
+def _kernel_contacts(state: RunState, points: np.ndarray) -> None:
+    """Contact points as the run's kernel found them (``RunResult.contact_points``, fields
+    :data:`railexu.simulation.POINT_FIELDS`): nothing recomputed, nothing estimated."""
+    from ..simulation import POINT_FIELDS
+
+    c = state.contacts
+    c[...] = 0.0
+    active = points[..., list(POINT_FIELDS).index("N_N")] > 0.0
+    for k, name in enumerate(POINT_FIELDS):
+        if name in CF:
+            c[..., CF[name]] = np.where(active, points[..., k], 0.0)
+    c[..., CF["active"]] = active
+    state.contact_source = "kernel"
 
 
 _POSE = ("lateral_m", "vertical_m", "roll_rad", "yaw_rad")
