@@ -74,8 +74,13 @@ def test_run_writes_timeseries_summary_and_plots(tmp_path, capsys):
     for p in out.glob("*.png"):
         p.unlink()
     assert main(["plot", str(out)]) == 0
-    assert {p.name for p in out.glob("*.svg")} == {n.replace(".png", ".svg") for n in pngs}
     assert {p.name for p in out.glob("*.png")} == pngs
+    assert not list(out.glob("*.svg"))  # PNG unless asked
+    assert main(["plot", str(out), "--plots", "png,svg"]) == 0
+    assert {p.name for p in out.glob("*.svg")} == {n.replace(".png", ".svg") for n in pngs}
+    # the redrawn figures are in the folder's list: the next run into it replaces them
+    manifest = json.loads((out / ".railexu-files.json").read_text())
+    assert {n.replace(".png", ".svg") for n in pngs} <= set(manifest["files"])
 
 
 def test_run_with_set_override(tmp_path, capsys):

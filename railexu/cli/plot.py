@@ -7,7 +7,7 @@ import argparse
 from .common import CliError
 
 
-def add_parser(sub) -> None:
+def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "plot",
         help="redraw the plots of a run (or a study) from its files",
@@ -18,19 +18,26 @@ def add_parser(sub) -> None:
         ),
     )
     p.add_argument("folder", help="output folder of railexu run or railexu study")
+    p.add_argument(
+        "--plots", default="png", metavar="FORMATS", help="figure formats: png, svg or png,svg"
+    )
     p.set_defaults(func=command)
+    return p
 
 
 def command(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from ..report.figures import save_figure
+    from ..report.folder import add_to_manifest
     from ..report.run_figures import run_figures
     from ..results import TimeSeries, read_summary
     from ..study import is_study_folder
     from ..study.plots import plot_study
+    from .run import plot_formats
 
     folder = Path(args.folder)
+    formats = plot_formats(args.plots) or ("png",)
     if is_study_folder(folder):
         written = plot_study(folder)
         print(f"railexu plot: wrote {len(written)} study plots to {folder}")
@@ -46,6 +53,7 @@ def command(args: argparse.Namespace) -> int:
         title = f"{summary.get('vehicle', '')}" + (f" at {speed:g} m/s" if speed else "")
     written = []
     for name, fig in run_figures(ts, summary, title).items():
-        written.extend(save_figure(fig, folder / name))
+        written.extend(save_figure(fig, folder / name, formats=formats))
+    add_to_manifest(folder, [p.name for p in written])
     print(f"railexu plot: wrote {len(written)} files to {folder}")
     return 0

@@ -18,7 +18,6 @@ when ``imageio-ffmpeg`` is installed (``pip install railexu[animation]``), to an
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 import time
@@ -617,23 +616,10 @@ def animate_run(
         report = progress_line(f"{view} view") if progress else None
         written[view] = render(v, frames, out / f"{view}.{fmt}", settings.fps, report)
     if out.resolve() == folder.resolve():
+        from .folder import add_to_manifest
+
         add_to_manifest(folder, [p.name for p in written.values()])
     return written
-
-
-def add_to_manifest(folder: Path, names: list[str]) -> None:
-    """Add files to the run folder's list of written files (``.railexu-files.json``)."""
-    from .folder import MANIFEST, atomic_path
-
-    path = Path(folder) / MANIFEST
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return  # a folder not written by railexu: leave it alone
-    files = sorted(set(data.get("files", [])) | set(names))
-    data["files"] = files
-    with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
 
 
 def save_frame_png(view, frame: int, path: str | Path) -> Path:

@@ -160,6 +160,20 @@ class OutputFolder:
             )
 
 
+def add_to_manifest(folder: str | Path, names: list[str]) -> None:
+    """Add files written later into an output folder (figures redrawn, animations, a report
+    page) to its list of written files, so that the next job into the folder replaces them
+    too. A folder without a manifest (not written by railexu) is left alone."""
+    path = Path(folder) / MANIFEST
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return
+    data["files"] = sorted(set(data.get("files", [])) | set(names))
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+
 def _read_manifest(path: Path) -> list[str]:
     try:
         data = json.loads((path / MANIFEST).read_text(encoding="utf-8"))

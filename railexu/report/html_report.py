@@ -455,7 +455,7 @@ def write_report(folder: str | Path, cases: bool = True, progress=None) -> list[
     Raises:
         InputError: the folder holds neither a run's nor a study's output.
     """
-    from .animate import add_to_manifest
+    from .folder import add_to_manifest
 
     folder = Path(folder)
     written: list[Path] = []
