@@ -146,16 +146,9 @@ def _irregularity(x, start, step, values, slopes, out, speed):
     u = (x - start) / step
     if n < 2 or u < 0.0 or u > n - 1.0:
         return
-    i = int(u)
-    if i >= n - 1:
-        i = n - 2
-    t = u - i
+    i, t = K.grid_cell(u, n)
     t2 = t * t
-    t3 = t2 * t
-    h00 = 2.0 * t3 - 3.0 * t2 + 1.0
-    h10 = t3 - 2.0 * t2 + t
-    h01 = -2.0 * t3 + 3.0 * t2
-    h11 = t3 - t2
+    h00, h10, h01, h11 = K.hermite_basis(t)
     for c in range(4):
         p0 = values[i, c]
         p1 = values[i + 1, c]
@@ -185,16 +178,8 @@ def _align_at(d, s):
         u = 0.0
     if u > n - 1.0:
         u = n - 1.0
-    i = int(u)
-    if i >= n - 1:
-        i = n - 2
-    t = u - i
-    t2 = t * t
-    t3 = t2 * t
-    h00 = 2.0 * t3 - 3.0 * t2 + 1.0
-    h10 = t3 - 2.0 * t2 + t
-    h01 = -2.0 * t3 + 3.0 * t2
-    h11 = t3 - t2
+    i, t = K.grid_cell(u, n)
+    h00, h10, h01, h11 = K.hermite_basis(t)
     p0 = tab[i, TAB_PSI]
     p1 = tab[i + 1, TAB_PSI]
     x = h00 * tab[i, TAB_X] + h10 * h * math.cos(p0) + h01 * tab[i + 1, TAB_X]

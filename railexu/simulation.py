@@ -129,13 +129,16 @@ POINT_FIELDS = {
 }
 
 
+_POINT_INDEX = np.array(list(POINT_FIELDS.values()))
+_CONTACT_INDEX = np.array([f for f in CONTACT_FIELDS.values() if f >= 0])
+
+
 def contact_fields(points: np.ndarray) -> np.ndarray:
     """The :data:`CONTACT_FIELDS` of every contact point, shape ``(n_ws, 2, MAX_POINTS,
     n_fields)``, zero where a candidate point carries no load."""
     loaded = points[..., K.PF_N] > 0.0
-    idx = [f for f in CONTACT_FIELDS.values() if f >= 0]
     out = np.zeros((*points.shape[:3], len(CONTACT_FIELDS)))
-    out[..., : len(idx)] = points[..., idx]
+    out[..., : _CONTACT_INDEX.size] = points[..., _CONTACT_INDEX]
     out[..., -1] = np.abs(
         points[..., K.PF_FX] * points[..., K.PF_XI] + points[..., K.PF_FY] * points[..., K.PF_ETA]
     )
@@ -344,7 +347,7 @@ class _Recorder:
             row[self.c_acc] = point_accelerations(qtt[self.i_acc], self.lever)
         if self.c_points is not None:
             row[self.c_points] = contact_fields(pts)
-        self.point_data[k] = pts[..., list(POINT_FIELDS.values())]
+        self.point_data[k] = pts[..., _POINT_INDEX]
         self.n = k + 1
         self.last_time = t
         # derailment: a wheel climbing its rail, or a wheelset off the track

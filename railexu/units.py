@@ -112,5 +112,6 @@ def to_si(value: object, unit: str) -> float:
     factor, dim = _parse_unit(given)
     expected = unit_dimension(unit)
     if dim != expected:
-        raise UnitError(f"{value!r} has the wrong dimension: expected a value in {unit}")
+        wanted = "a plain number (dimensionless)" if unit == "1" else f"a value in {unit}"
+        raise UnitError(f"{value!r} has the wrong dimension: expected {wanted}")
     return number * factor / _parse_unit(unit)[0]

@@ -60,6 +60,24 @@ def _integral_at(
     return cum[k] + v[k] * u + 0.5 * slope * u * u
 
 
+def _window_integrals(
+    x: FloatArray, v: FloatArray, a: FloatArray, b: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Integrals over ``[a, b]`` of the piecewise-linear signal with its non-finite samples set
+    to zero, and of the indicator of finite samples: a window's mean over its finite part is
+    their quotient."""
+    valid = np.isfinite(v)
+    v0 = np.where(valid, v, 0.0)
+    w = valid.astype(float)
+    dx = np.diff(x)
+    cum_v = np.concatenate(([0.0], np.cumsum(0.5 * (v0[1:] + v0[:-1]) * dx)))
+    cum_w = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * dx)))
+    loc_a, loc_b = _locate(x, a), _locate(x, b)
+    num = _integral_at(v0, cum_v, loc_b) - _integral_at(v0, cum_v, loc_a)
+    den = _integral_at(w, cum_w, loc_b) - _integral_at(w, cum_w, loc_a)
+    return num, den
+
+
 def _sliding(x_m: ArrayLike, values: ArrayLike, window_m: float) -> tuple[FloatArray, FloatArray]:
     """Sliding mean and the window centres; see :func:`sliding_mean`."""
     if not window_m > 0:
@@ -73,15 +91,7 @@ def _sliding(x_m: ArrayLike, values: ArrayLike, window_m: float) -> tuple[FloatA
     centres = np.clip(x, lo_c, hi_c)
     a = np.clip(centres - half, x[0], x[-1])
     b = np.clip(centres + half, x[0], x[-1])
-    valid = np.isfinite(v)
-    v0 = np.where(valid, v, 0.0)
-    w = valid.astype(float)
-    dx = np.diff(x)
-    cum_v = np.concatenate(([0.0], np.cumsum(0.5 * (v0[1:] + v0[:-1]) * dx)))
-    cum_w = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * dx)))
-    loc_a, loc_b = _locate(x, a), _locate(x, b)
-    num = _integral_at(v0, cum_v, loc_b) - _integral_at(v0, cum_v, loc_a)
-    den = _integral_at(w, cum_w, loc_b) - _integral_at(w, cum_w, loc_a)
+    num, den = _window_integrals(x, v, a, b)
     ok = den > 1e-9 * window_m
     out[ok] = num[ok] / den[ok]
     return out, centres
@@ -229,15 +239,7 @@ def window_means(
         return np.empty(0), np.empty(0)
     a = lo + step_m * np.arange(count)
     b = a + window_m
-    valid = np.isfinite(v)
-    v0 = np.where(valid, v, 0.0)
-    w = valid.astype(float)
-    dx = np.diff(x)
-    cum_v = np.concatenate(([0.0], np.cumsum(0.5 * (v0[1:] + v0[:-1]) * dx)))
-    cum_w = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * dx)))
-    loc_a, loc_b = _locate(x, a), _locate(x, b)
-    num = _integral_at(v0, cum_v, loc_b) - _integral_at(v0, cum_v, loc_a)
-    den = _integral_at(w, cum_w, loc_b) - _integral_at(w, cum_w, loc_a)
+    num, den = _window_integrals(x, v, a, b)
     out = np.full(count, np.nan)
     ok = den > 1e-9 * window_m
     out[ok] = num[ok] / den[ok]

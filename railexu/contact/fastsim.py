@@ -81,23 +81,10 @@ def fastsim_nb(
     c23: float,
     n_strips: int,
     n_points: int,
-) -> tuple[float, float, float]:
-    """Compiled FASTSIM with the spin moment; scalars, no allocation. On the wheel [N, N m].
+) -> tuple[float, float]:
+    """Compiled FASTSIM; scalars, loops only (no allocation). Force on the wheel [N].
 
-    Same arguments as :func:`fastsim_nb`. The spin moment is the moment of the tractions about
-    the contact normal through the patch centre, ``Mz = int (x p_y - y p_x) dA`` (right-handed
-    contact frame ``t_x, t_y, n``).
-
-    Args:
-        xi, eta: longitudinal and lateral creepage [-].
-        phi: spin creepage [1/m].
-        Q: normal force [N] (``<= 0``: zero force).
-        mu: friction coefficient [-].
-        a, b: semi-axes, rolling direction and lateral [m].
-        G: shear modulus [Pa].
-        c11, c22, c23: Kalker coefficients [-] (they set the flexibilities, module doc).
-        n_strips: number of strips across the ellipse (>= 1).
-        n_points: number of cells along each strip (>= 1).
+    Same arguments as :func:`fastsim3_nb`, which it calls.
 
     Returns:
         ``(Fx, Fy)`` on the wheel in the contact frame [N].
@@ -121,8 +108,11 @@ def fastsim3_nb(
     c23: float,
     n_strips: int,
     n_points: int,
-) -> tuple[float, float]:
-    """Compiled FASTSIM; scalars, loops only (no allocation). Force on the wheel [N].
+) -> tuple[float, float, float]:
+    """Compiled FASTSIM with the spin moment; scalars, loops only (no allocation). On the wheel
+    [N, N m]. The spin moment is the moment of the tractions about the contact normal through
+    the patch centre, ``Mz = int (x p_y - y p_x) dA`` (right-handed contact frame ``t_x, t_y,
+    n``).
 
     Args:
         xi, eta: longitudinal and lateral creepage [-].

@@ -104,6 +104,26 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 
 @numba.njit(inline="always", **_JIT)
+def hermite_basis(t):
+    """The cubic Hermite basis at ``t`` in [0, 1]: ``(h00, h10, h01, h11)`` with
+    ``p(t) = h00 p0 + h10 h m0 + h01 p1 + h11 h m1`` on a cell of width ``h``. The one
+    definition of the compiled code (profile tables, irregularities, the track alignment)."""
+    t2 = t * t
+    t3 = t2 * t
+    return 2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, -2.0 * t3 + 3.0 * t2, t3 - t2
+
+
+@numba.njit(inline="always", **_JIT)
+def grid_cell(u, n):
+    """Cell ``i`` and local coordinate ``t`` of the grid coordinate ``u`` (``0 <= u <= n - 1``)
+    on a table of ``n`` samples; the last sample belongs to the last cell."""
+    i = int(u)
+    if i >= n - 1:
+        i = n - 2
+    return i, u - i
+
+
+@numba.njit(inline="always", **_JIT)
 def _hermite(tab, y0, step, n, y):
     """Cubic Hermite interpolation of ``tab[:, 0]`` with slopes ``tab[:, 1]`` on a uniform grid.
 
@@ -113,18 +133,15 @@ def _hermite(tab, y0, step, n, y):
     u = (y - y0) / step
     if u < 0.0 or u > n - 1.0:
         return 0.0, 0.0, 0.0, False
-    i = int(u)
-    if i >= n - 1:
-        i = n - 2
-    t = u - i
+    i, t = grid_cell(u, n)
     z0 = tab[i, 0]
     z1 = tab[i + 1, 0]
     d0 = tab[i, 1] * step
     d1 = tab[i + 1, 1] * step
     t2 = t * t
-    t3 = t2 * t
-    val = (2.0 * t3 - 3.0 * t2 + 1.0) * z0 + (t3 - 2.0 * t2 + t) * d0
-    val += (-2.0 * t3 + 3.0 * t2) * z1 + (t3 - t2) * d1
+    h00, h10, h01, h11 = hermite_basis(t)
+    val = h00 * z0 + h10 * d0
+    val += h01 * z1 + h11 * d1
     der = (6.0 * t2 - 6.0 * t) * z0 + (3.0 * t2 - 4.0 * t + 1.0) * d0
     der += (6.0 * t - 6.0 * t2) * z1 + (3.0 * t2 - 2.0 * t) * d1
     sec = (1.0 - t) * tab[i, 2] + t * tab[i + 1, 2]

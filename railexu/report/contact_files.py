@@ -32,26 +32,15 @@ def write_contact_check(result: ContactCheckResult, out_dir: str | Path) -> list
         for row in result.rows:
             writer.writerow({k: _fmt(v) for k, v in row.items()})
     written.append(path)
-    path = out / "conicity.csv"
-    np.savetxt(
-        path,
-        np.column_stack([result.conicity_amplitude_m, result.conicity]),
-        delimiter=",",
-        header="amplitude_m,equivalent_conicity",
-        comments="",
-        fmt="%.10g",
-    )
-    written.append(path)
-    path = out / "delta_r.csv"
-    np.savetxt(
-        path,
-        np.column_stack([result.delta_r_lateral_m, result.delta_r_m]),
-        delimiter=",",
-        header="lateral_m,delta_r_m",
-        comments="",
-        fmt="%.10g",
-    )
-    written.append(path)
+    for name, header, columns in (
+        ("conicity.csv", "amplitude_m,equivalent_conicity",
+         (result.conicity_amplitude_m, result.conicity)),
+        ("delta_r.csv", "lateral_m,delta_r_m", (result.delta_r_lateral_m, result.delta_r_m)),
+    ):  # fmt: skip
+        path = out / name
+        np.savetxt(path, np.column_stack(columns), delimiter=",", header=header, comments="",
+                   fmt="%.10g")  # fmt: skip
+        written.append(path)
     settings = asdict(result.settings)
     settings["lateral_m"] = list(settings["lateral_m"])
     settings["conicity_amplitudes_m"] = list(settings["conicity_amplitudes_m"])
