@@ -26,10 +26,13 @@ from typing import Any
 import numpy as np
 
 from .contact import kernel as K
-from .curving import track_columns
-from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_VERTICAL, WL_YAW, track_position
 from .model import VehicleModel
 from .preflight import check_initial_offset
+from .recorder import CONTACT_FIELDS as CONTACT_FIELDS
+from .recorder import POINT_FIELDS as POINT_FIELDS
+from .recorder import Recorder
+from .recorder import contact_fields as contact_fields
+from .recorder import point_accelerations as point_accelerations
 from .run_settings import RunSettings as RunSettings
 from .run_settings import RunSettingsError as RunSettingsError
 from .run_settings import run_settings_from_dict as run_settings_from_dict
@@ -91,325 +94,6 @@ def wheelset_order(vehicle: Vehicle) -> list[int]:
     return sorted(range(len(vehicle.wheelsets)), key=lambda i: -vehicle.wheelsets[i].position_x_m)
 
 
-#: Per contact point in the time series (``--contact-outputs``): ``ws{i}_{side}_p{k}_<field>``
-#: with the kernel's field of each (position on the wheel profile from the tape circle, on the
-#: rail, contact angle, creepages, forces on the wheel in the contact frame, semi-axes).
-CONTACT_FIELDS = {
-    "wheel_y_m": K.PF_S,
-    "rail_y_m": K.PF_YRAIL,
-    "angle_rad": K.PF_ANGLE,
-    "creep_x": K.PF_XI,
-    "creep_y": K.PF_ETA,
-    "spin_1_per_m": K.PF_SPIN,
-    "Fx_N": K.PF_FX,
-    "Fy_N": K.PF_FY,
-    "N_N": K.PF_N,
-    "a_m": K.PF_A,
-    "b_m": K.PF_B,
-    "Tgamma_N": -1,  # |Fx xi + Fy eta|: the wear number (Pearce and Sherratt 1991)
-}
-
-
-#: The kernel fields of every contact point a run keeps in memory (``RunResult.contact_points``,
-#: last axis): active flag, position on the wheel profile, track-frame position, contact angle,
-#: normal force, semi-axes, tangential forces in the contact frame.
-POINT_FIELDS = {
-    "active": K.PF_ACTIVE,
-    "wheel_s_m": K.PF_S,
-    "y_m": K.PF_Y,
-    "z_m": K.PF_Z,
-    "angle_rad": K.PF_ANGLE,
-    "N_N": K.PF_N,
-    "a_m": K.PF_A,
-    "b_m": K.PF_B,
-    "Fx_N": K.PF_FX,
-    "Fy_N": K.PF_FY,
-    "FY_N": K.PF_FTY,
-    "FZ_N": K.PF_FTZ,
-}
-
-
-_POINT_INDEX = np.array(list(POINT_FIELDS.values()))
-_CONTACT_INDEX = np.array([f for f in CONTACT_FIELDS.values() if f >= 0])
-
-
-def contact_fields(points: np.ndarray) -> np.ndarray:
-    """The :data:`CONTACT_FIELDS` of every contact point, shape ``(n_ws, 2, MAX_POINTS,
-    n_fields)``, zero where a candidate point carries no load."""
-    loaded = points[..., K.PF_N] > 0.0
-    out = np.zeros((*points.shape[:3], len(CONTACT_FIELDS)))
-    out[..., : _CONTACT_INDEX.size] = points[..., _CONTACT_INDEX]
-    out[..., -1] = np.abs(
-        points[..., K.PF_FX] * points[..., K.PF_XI] + points[..., K.PF_FY] * points[..., K.PF_ETA]
-    )
-    return np.where(loaded[..., None], out, 0.0)
-
-
-def point_accelerations(qtt_body: np.ndarray, lever_m: np.ndarray) -> np.ndarray:
-    """Lateral and vertical accelerations [m/s^2] of points fixed to bodies, from the bodies'
-    coordinate accelerations ``(x, y, z, roll, pitch, yaw)`` (one row per point) and the points'
-    lever arms from the centres of gravity (vehicle axes).
-
-    Small rotations (the car body's angles stay below a few degrees): a = a_cg + alpha x r; the
-    centripetal term omega x (omega x r) is of second order in the angular rates and left out.
-    Relative to the track (its frame in a curve): the quasi-static lateral acceleration of a
-    curve is not in it (the EN 12299 weightings remove it; ``docs/assessment.md``).
-    """
-    a_y = qtt_body[:, 1] + qtt_body[:, 5] * lever_m[:, 0] - qtt_body[:, 3] * lever_m[:, 2]
-    a_z = qtt_body[:, 2] + qtt_body[:, 3] * lever_m[:, 1] - qtt_body[:, 4] * lever_m[:, 0]
-    return np.stack([a_y, a_z], axis=1)
-
-
-class _Recorder:
-    """Records the time series of a run into a preallocated array, vectorised over wheelsets,
-    and checks for derailment."""
-
-    def __init__(
-        self,
-        model: VehicleModel,
-        vehicle: Vehicle,
-        settings: RunSettings,
-        order: list[int],
-        n_out: int,
-        flange_height: list[float],
-    ) -> None:
-        self.model = model
-        self.settings = settings
-        self.speed = settings.speed_m_per_s
-        self.order = np.asarray(order)
-        names = [vehicle.wheelsets[i].name for i in order]
-        self.ws_names = names
-        self.body_names = [b.name for b in vehicle.bodies]
-        columns = ["time_s", "distance_m"]
-        for i in range(1, len(names) + 1):
-            columns += [f"ws{i}_{k}" for k in ("lateral_m", "yaw_rad", "roll_rad", "vertical_m")]
-            for side in ("left", "right"):
-                columns += [
-                    f"ws{i}_{side}_{k}" for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")
-                ]
-        columns += [f"{name}_lateral_m" for name in self.body_names]
-        # track-relative extras: distance of each wheelset along the track, the wear number
-        # T-gamma of each wheel
-        columns += [f"ws{i}_s_m" for i in range(1, len(names) + 1)]
-        columns += [
-            f"ws{i}_{side}_Tgamma_N" for i in range(1, len(names) + 1) for side in ("left", "right")
-        ]
-        if settings.deceleration_m_per_s2 != 0.0:
-            columns.append("speed_m_per_s")
-        columns += [
-            f"{p.name}_acc_{k}_m_per_s2" for p in vehicle.measurement_points for k in ("y", "z")
-        ]
-        if settings.contact_outputs:
-            columns += [
-                f"ws{i}_{side}_p{k}_{field}"
-                for i in range(1, len(names) + 1)
-                for side in ("left", "right")
-                for k in range(1, K.MAX_POINTS + 1)
-                for field in CONTACT_FIELDS
-            ]
-        self.columns = columns
-        self.data = np.zeros((n_out, len(columns)))
-        col = {c: j for j, c in enumerate(columns)}
-        self.c_ws = np.array(
-            [[col[f"ws{i}_{k}"] for k in ("lateral_m", "yaw_rad", "roll_rad", "vertical_m")]
-             for i in range(1, len(names) + 1)]
-        )  # fmt: skip
-        self.c_wheel = np.array(
-            [[[col[f"ws{i}_{side}_{k}"] for k in ("Y_N", "Q_N", "n_contacts", "max_angle_rad")]
-              for side in ("left", "right")] for i in range(1, len(names) + 1)]
-        )  # fmt: skip
-        self.c_body = np.array([col[f"{n}_lateral_m"] for n in self.body_names], dtype=int)
-        self.c_speed = col.get("speed_m_per_s")
-        n_ws = len(names)
-        self.c_s = np.array([col[f"ws{i}_s_m"] for i in range(1, n_ws + 1)])
-        self.c_tgamma = np.array(
-            [[col[f"ws{i}_{side}_Tgamma_N"] for side in ("left", "right")]
-             for i in range(1, n_ws + 1)]
-        )  # fmt: skip
-        self.curved = model.curved
-        self._init_accelerations(vehicle, col)
-        # the kernel's contact points at every output time, kept in memory for the state file
-        # of the animations (the time series carries them only with contact_outputs)
-        self.point_data = np.zeros((n_out, len(names), 2, K.MAX_POINTS, len(POINT_FIELDS)))
-        self.c_points = None
-        if settings.contact_outputs:
-            first = col["ws1_left_p1_" + next(iter(CONTACT_FIELDS))]
-            self.c_points = first + np.arange(
-                len(names) * 2 * K.MAX_POINTS * len(CONTACT_FIELDS)
-            ).reshape(len(names), 2, K.MAX_POINTS, len(CONTACT_FIELDS))
-        # elastic track: deflections of the rail masses under each wheelset
-        self.rail_columns = []
-        self.rail_coords = []
-        for i, name in enumerate(names, start=1):
-            if name in model.rail_node:
-                self.rail_columns.append(len(self.columns))
-                for side in ("left", "right"):
-                    for k in ("lateral", "vertical"):
-                        self.columns.append(f"ws{i}_{side}_rail_{k}_m")
-                self.rail_coords.append(model.rail_ltg[name])
-        if self.rail_columns:
-            self.data = np.zeros((n_out, len(self.columns)))
-            self.c_rail = np.array([[c + k for k in range(4)] for c in self.rail_columns])
-            self.i_rail = np.array(self.rail_coords)
-        ltg = model.ltg
-        self.i_ws = np.array([ltg[n] for n in names])  # (n_ws, 6) global coordinates
-        self.ref = np.array([model.centre[n] for n in names])
-        self.theta0 = np.array(
-            [math.atan2(model.rotation[n][2, 1], model.rotation[n][1, 1]) for n in names]
-        )
-        self.i_body = np.array([ltg[n][1] for n in self.body_names], dtype=int)
-        self.i_body_x = np.array([ltg[n][0] for n in self.body_names], dtype=int)
-        self.ref_body = np.array([model.centre[n][1] for n in self.body_names])
-        self.ref_body_x = np.array([model.centre[n][0] for n in self.body_names])
-        self.i_body_z = np.array([ltg[n][2] for n in self.body_names], dtype=int)
-        self.ref_body_z = np.array([model.centre[n][2] for n in self.body_names])
-        # lateral positions are recorded relative to the track centre line (the mean lateral
-        # offset of the two rails, i.e. the alignment irregularity)
-        values = model.irr_values
-        self.irr_x = model.irr_start + model.irr_step * np.arange(values.shape[0])
-        self.irr_centre = 0.5 * (values[:, 0] + values[:, 2])
-        self.has_alignment = bool(np.any(self.irr_centre != 0.0))
-        st = [model.initial_wheelsets[i] for i in order]
-        self.z0 = np.array([s.vertical_m for s in st])
-        self.sin_roll0 = np.sin([s.roll_rad for s in st])
-        self.e = np.array([model.geometries[i].left.tape_circle_lateral_m for i in order])
-        self.lift_limit = settings.derailment_lift_fraction * np.array(
-            [flange_height[i] for i in order]
-        )
-        self.out = np.zeros_like(model._out)
-        self.points = np.zeros_like(model.points)
-        self.ws_force = np.zeros_like(model.ws_force)
-        self.n = 0
-        self.last_time = -math.inf
-
-    def _init_accelerations(self, vehicle: Vehicle, col: dict[str, int]) -> None:
-        """Node coordinates and lever arms of the measurement points."""
-        ltg = self.model.ltg
-        points = vehicle.measurement_points
-        self.c_acc = np.array(
-            [[col[f"{p.name}_acc_{k}_m_per_s2"] for k in ("y", "z")] for p in points], dtype=int
-        ).reshape(-1, 2)
-        self.i_acc = np.array([ltg[p.body] for p in points], dtype=int).reshape(-1, 6)
-        centres = {b.name: b.position_m for b in vehicle.bodies}
-        self.lever = np.array([np.subtract(p.position_m, centres[p.body]) for p in points]).reshape(
-            -1, 3
-        )
-
-    def record(
-        self, t: float, q: np.ndarray, qt: np.ndarray, qtt: np.ndarray | None = None
-    ) -> tuple | None:
-        """Store the state at time ``t``; returns a status tuple when the run must stop."""
-        k = self.n
-        if k >= self.data.shape[0]:
-            return None
-        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qt))):
-            return ("diverged", t, "the state became NaN or infinite")
-        self.model.evaluate(q, qt, t, self.out, self.points, self.ws_force)
-        row = self.data[k]
-        row[0] = t
-        row[1] = self.settings.distance_at(t)
-        if self.c_speed is not None:
-            row[self.c_speed] = self.settings.speed_at(t)
-        if self.curved:
-            loc = self.model.kernel.ws_local[self.order]
-            s_ws = loc[:, WL_S]
-            y = loc[:, WL_LATERAL] - self._track_centre(s_ws)
-            z = loc[:, WL_VERTICAL]
-            phi = loc[:, WL_ROLL]
-            psi = loc[:, WL_YAW]
-        else:
-            s_ws = self.ref[:, 0] + q[self.i_ws[:, 0]]
-            y = self.ref[:, 1] + q[self.i_ws[:, 1]] - self._track_centre(s_ws)
-            z = self.ref[:, 2] + q[self.i_ws[:, 2]]
-            phi = self.theta0 + q[self.i_ws[:, 3]] + 0.5 * math.pi
-            psi = -q[self.i_ws[:, 4]]
-        row[self.c_s] = s_ws
-        row[self.c_ws[:, 0]] = y
-        row[self.c_ws[:, 1]] = psi
-        row[self.c_ws[:, 2]] = phi
-        row[self.c_ws[:, 3]] = z
-        pts = self.points[self.order]
-        loaded = pts[:, :, :, K.PF_N] > 0.0
-        row[self.c_wheel[:, :, 0]] = pts[:, :, :, K.PF_FTY].sum(axis=2)
-        row[self.c_wheel[:, :, 1]] = pts[:, :, :, K.PF_FTZ].sum(axis=2)
-        row[self.c_wheel[:, :, 2]] = loaded.sum(axis=2)
-        angle = np.where(loaded, pts[:, :, :, K.PF_ANGLE], -np.inf).max(axis=2)
-        row[self.c_wheel[:, :, 3]] = np.where(np.isfinite(angle), angle, 0.0)
-        # wear number: sum over the contact points of |creep force . creepage|
-        power = pts[:, :, :, K.PF_FX] * pts[:, :, :, K.PF_XI]
-        power += pts[:, :, :, K.PF_FY] * pts[:, :, :, K.PF_ETA]
-        row[self.c_tgamma] = np.abs(np.where(loaded, power, 0.0)).sum(axis=2)
-        if self.c_body.size:
-            row[self.c_body] = self._body_lateral(q)
-        if self.rail_columns:
-            row[self.c_rail] = q[self.i_rail]
-        if qtt is not None and self.c_acc.size:
-            row[self.c_acc] = point_accelerations(qtt[self.i_acc], self.lever)
-        if self.c_points is not None:
-            row[self.c_points] = contact_fields(pts)
-        self.point_data[k] = pts[..., _POINT_INDEX]
-        self.n = k + 1
-        self.last_time = t
-        # derailment: a wheel climbing its rail, or a wheelset off the track
-        droll = self.e * (np.sin(phi) - self.sin_roll0)
-        rise = np.stack([(z - self.z0) + droll, (z - self.z0) - droll], axis=1)
-        climbed = rise.max(axis=1) > self.lift_limit
-        if np.any(climbed):
-            w = int(np.argmax(climbed))
-            side = "left" if rise[w, 0] > rise[w, 1] else "right"
-            return (
-                "derailed",
-                t,
-                f"wheelset {self.ws_names[w]} ({w + 1}), {side} wheel rose "
-                f"{rise[w].max() * 1e3:.1f} mm above its rail (flange climb or wheel lift) at "
-                f"lateral {y[w] * 1e3:.1f} mm",
-            )
-        off = np.abs(y) > self.settings.derailment_lateral_m
-        if np.any(off):
-            w = int(np.argmax(off))
-            return (
-                "derailed",
-                t,
-                f"wheelset {self.ws_names[w]} ({w + 1}) left the track: lateral "
-                f"{y[w] * 1e3:.1f} mm",
-            )
-        return None
-
-    def _body_lateral(self, q: np.ndarray) -> np.ndarray:
-        """Lateral position of every body's centre relative to the track centre line [m]."""
-        x_body = self.ref_body_x + q[self.i_body_x]
-        y_body = self.ref_body + q[self.i_body]
-        if not self.curved:
-            return y_body - self._track_centre(x_body)
-        # in the canted plane of the track at the foot point, as the wheelsets' lateral
-        data = self.model.kernel
-        z_body = self.ref_body_z + q[self.i_body_z]
-        out = np.empty(x_body.size)
-        for j in range(x_body.size):
-            s, lateral, height, _ = track_position(
-                data, x_body[j] - data.frame[FR_S], y_body[j], z_body[j]
-            )
-            cant = float(self.model.alignment.cant_angle(s))
-            out[j] = math.cos(cant) * lateral + math.sin(cant) * height - self._track_centre(s)
-        return out
-
-    def _track_centre(self, x: np.ndarray) -> np.ndarray | float:
-        if not self.has_alignment:
-            return 0.0
-        return np.interp(x, self.irr_x, self.irr_centre, left=0.0, right=0.0)
-
-    def timeseries(self) -> TimeSeries:
-        columns = {c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)}
-        speed = columns.get("speed_m_per_s")
-        if speed is None:
-            speed = np.full(self.n, self.speed)
-        columns.update(
-            track_columns(self.model.alignment, columns["ws1_s_m"], speed,
-                          self.model.vehicle.gravity_m_per_s2)
-        )  # fmt: skip
-        return TimeSeries(columns)
-
-
 _STOP_SIGNALS = {"SIGINT": "Ctrl-C, SIGINT", "SIGTERM": "SIGTERM"}
 
 
@@ -463,7 +147,7 @@ def simulate(
     t_built = time.perf_counter()
     order = wheelset_order(vehicle)
     ss, n_steps = _solver_settings(settings)
-    recorder = _Recorder(
+    recorder = Recorder(
         model, vehicle, settings, order, n_steps // settings.output_every + 2,
         _flange_heights(model),
     )  # fmt: skip
@@ -486,7 +170,7 @@ def simulate(
     warnings += list(model.axle_load_warnings)
     if warnings:
         facts["warnings"] = warnings
-    points = recorder.point_data[: len(ts)]
+    points = recorder.contact_points()
     return RunResult(ts, facts, status, settings, vehicle, track, timings, model, points)
 
 

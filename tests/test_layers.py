@@ -47,6 +47,7 @@ LAYERS: dict[str, int] = {
     "railexu.timeseries": 6,
     "railexu.curving": 6,
     "railexu.simulation": 6,
+    "railexu.recorder": 6,
     "railexu.preflight": 6,
     "railexu.results": 7,
     "railexu.stability": 7,

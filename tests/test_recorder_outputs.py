@@ -87,3 +87,48 @@ def test_contact_points_carry_the_wheel_load(bogie_run):
 def test_the_summary_evaluates_ride_comfort_from_the_recorded_accelerations(bogie_run):
     comfort = bogie_run.summary["comfort"]["points"]
     assert set(comfort) == {"cg"}
+
+
+def test_recorded_contact_state_is_that_of_the_recorded_coordinates():
+    """The recorder keeps the force function's last evaluation of each step instead of
+    evaluating the contact again (issue 11). That is right only if Exudyn's Newton iteration ends
+    every step with the residual of the accepted state: check it by evaluating the compiled
+    forces afresh at the recorded state of every output sample, on a curved track (vehicle
+    frame in motion) where a stale evaluation would also show in the track-relative pose."""
+    from railexu.simulation import simulate
+
+    data, lines = load_yaml(ROOT / "vehicles" / "eu07_bogie.yaml")
+    vehicle = vehicle_from_dict(data, "eu07_bogie.yaml", lines, ROOT / "vehicles")
+    track = load_track(ROOT / "tracks" / "curve_r600.yaml")
+    settings = RunSettings(speed_m_per_s=15.0, distance_m=6.0, initial_lateral_m=0.002)
+    checked = []
+    import railexu.recorder as recorder_module
+
+    original = recorder_module.Recorder.record
+
+    def record_and_check(self, t, q, qt, qtt=None):
+        status = original(self, t, q, qt, qtt)
+        model = self.model
+        kept_points = model.points.copy()
+        kept_pose = model.kernel.ws_local.copy()
+        out = np.zeros_like(model._out)
+        points = np.zeros_like(model.points)
+        ws_force = np.zeros_like(model.ws_force)
+        model.evaluate(q, qt, t, out, points, ws_force)
+        # the same compiled code on the same numbers: equal to rounding
+        checked.append(
+            (
+                np.max(np.abs(points - kept_points)),
+                np.max(np.abs(model.kernel.ws_local - kept_pose)),
+            )
+        )
+        return status
+
+    recorder_module.Recorder.record = record_and_check
+    try:
+        result = simulate(vehicle, track, settings)
+    finally:
+        recorder_module.Recorder.record = original
+    assert result.status["state"] == "completed"
+    assert len(checked) > 50
+    assert np.max(checked) <= 1e-9 * 1e5  # forces up to 1e5 N: equal to 1e-9 relative
