@@ -627,6 +627,23 @@ def generalized_forces(q, qt, d, out, points, ws_force):
             _frame_forces(j, q, qt, d, out)
 
 
+def compiled_entry(function, *args):
+    """The compiled machine-code entry of a numba function for arguments like ``args``,
+    bypassing numba's type dispatch on every call.
+
+    The force function is called some 30 000 times per simulated 15 s, and resolving the types of
+    :class:`KernelData` (a named tuple of 27 arrays and numbers) costs several microseconds per
+    call (``benchmarks/realtime.py`` prints the effect). The function is first called with
+    ``args`` (compiling it or loading it from numba's cache); if numba's compiled-overload table
+    is not available (a numba version that changed it), the dispatcher itself is returned."""
+    function(*args)
+    try:
+        signature = tuple(numba.typeof(a) for a in args)
+        return function.overloads[signature].entry_point
+    except (AttributeError, KeyError, TypeError):
+        return function
+
+
 #: Finite-difference steps of :func:`jacobian`: coordinates [m, rad] and velocities [m/s, rad/s].
 EPS_Q = 1.0e-8
 EPS_V = 1.0e-6

@@ -39,7 +39,15 @@ from .contact.placement import WheelsetGeometry, symmetric_wheelset
 from .contact.placement import wheelset_geometry as placed_wheelset
 from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
 from .errors import InputError
-from .forces import BS_NREAL, FR_SIZE, WL_SIZE, KernelData, generalized_forces, jacobian
+from .forces import (
+    BS_NREAL,
+    FR_SIZE,
+    WL_SIZE,
+    KernelData,
+    compiled_entry,
+    generalized_forces,
+    jacobian,
+)
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset
@@ -473,21 +481,27 @@ class VehicleModel:
         points = self.points
         ws_force = self.ws_force
         set_time = self.set_time if self.curved else None
+        # the compiled functions, replaced by their machine-code entries in warm_up()
+        self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
 
         def contact_forces(mbs_, t, item, q, q_t):
             if set_time is not None:
                 set_time(t)
-            generalized_forces(np.array(q), np.array(q_t), data, out, points, ws_force)
+            compiled["forces"](np.array(q), np.array(q_t), data, out, points, ws_force)
             return out
 
         jac = np.zeros((n_coords, n_coords))
         jac_points = np.zeros_like(points)
         jac_force = np.zeros_like(ws_force)
+        self._jacobian_arrays = (jac, jac_points, jac_force)
 
         def contact_jacobian(mbs_, t, item, q, q_t, f_q, f_v):
             if set_time is not None:
                 set_time(t)
-            jacobian(np.array(q), np.array(q_t), data, f_q, f_v, jac, jac_points, jac_force)
+            compiled["jacobian"](
+                np.array(q), np.array(q_t), data, float(f_q), float(f_v), jac, jac_points,
+                jac_force,
+            )  # fmt: skip
             return jac
 
         self._user_function = contact_forces
@@ -581,10 +595,17 @@ class VehicleModel:
         """Call the compiled force and Jacobian functions once at the initial state, so that
         their just-in-time compilation (first run after installation) or loading from numba's
         cache happens before the integration starts and is not counted in its timing."""
-        q = self.mbs.systemData.GetODE2Coordinates()[self.object_ltg]
-        qt = self.mbs.systemData.GetODE2Coordinates_t()[self.object_ltg]
-        self._user_function(self.mbs, 0.0, 0, list(q), list(qt))
-        self._jacobian_function(self.mbs, 0.0, 0, list(q), list(qt), 1.0, 0.0)
+        q = np.array(self.mbs.systemData.GetODE2Coordinates()[self.object_ltg], dtype=float)
+        qt = np.array(self.mbs.systemData.GetODE2Coordinates_t()[self.object_ltg], dtype=float)
+        if self.curved:
+            self.set_time(0.0)
+        jac, jac_points, jac_force = self._jacobian_arrays
+        self._compiled["jacobian"] = compiled_entry(
+            jacobian, q, qt, self.kernel, 1.0, 0.0, jac, jac_points, jac_force
+        )
+        self._compiled["forces"] = compiled_entry(
+            generalized_forces, q, qt, self.kernel, self._out, self.points, self.ws_force
+        )
 
     def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):
         """Evaluate the compiled forces at a full system state and time ``t`` into the given
