@@ -14,6 +14,17 @@ curve (``tracks/curve_r600.yaml``, 20 m/s, 500 m: transition, curve, transition)
 distance on ideal straight track, both from the seed's 2 mm initial offset (the budget: a curved
 run costs at most 25 % more). From a centred start the straight run is cheaper only because
 nothing moves on ideal straight track (one Newton iteration per step).
+
+For every vehicle it also prints where the time goes (issue 11's budget):
+
+- *overhead*: the whole command minus the integration (Python start-up, imports, building the
+  model, files, figures); the budget is 1 s;
+- *force function*: the time inside the wheel-rail force function during the integration, and
+  the number of its calls (from ``summary.json``);
+- *contact floor*: Newton iterations x wheelsets x the compiled kernel's time per wheelset
+  measured now by ``benchmarks/contact.py`` on its 120 states (the seed's law of each vehicle);
+  the budget for the integration is 2.5 floors.
+Compare the ratios of one run of this script, not absolute times across machines or days.
 """
 
 from __future__ import annotations
@@ -39,7 +50,9 @@ def run_once(vehicle: str, out: Path, *extra: str, speed: float = SPEED,
         "--out", str(out), "--quiet", *extra,
     ]  # fmt: skip
     t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True)
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode not in (0, 1):  # 1: completed with a safety limit exceeded
+        raise RuntimeError(f"{' '.join(cmd)} ended with {done.returncode}:\n{done.stderr}")
     wall = time.perf_counter() - t0
     return wall, json.loads((out / "summary.json").read_text())
 
@@ -71,27 +84,58 @@ def curve_case() -> None:
         print(f"curved track costs {100 * extra_cost:+.0f} % against straight track")
 
 
+def _creep_law(vehicle: str) -> str:
+    from railexu.vehicle import load_vehicle
+
+    return load_vehicle(ROOT / "vehicles" / f"{vehicle}.yaml").contact.creep_model
+
+
 def main() -> None:
     if "--curve" in sys.argv[1:]:
         curve_case()
         return
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from contact import kernel_seconds_per_wheelset
+
     simulated = DISTANCE / SPEED
+    kernel = {}
     with tempfile.TemporaryDirectory() as tmp:
         run_once("wheelset", Path(tmp) / "warm-up")  # load/compile the kernels once
-        print(f"seed scenario: {SPEED:g} m/s, {DISTANCE:g} m ({simulated:g} s simulated)")
-        print(f"{'vehicle':12s} {'whole command':>22s} {'integration only':>22s}")
+        print(f"seed scenario: {SPEED:g} m/s, {DISTANCE:g} m ({simulated:g} s simulated), "
+              "median of three whole commands")  # fmt: skip
+        print(
+            f"{'vehicle':11s} {'whole command':>20s} {'integration':>18s} {'overhead':>9s} "
+            f"{'force function':>22s} {'floor':>8s} {'int/floor':>9s}"
+        )
         for name in VEHICLES:
-            best = None
-            for k in range(2):
-                wall, summary = run_once(name, Path(tmp) / f"{name}{k}")
-                if best is None or wall < best[0]:
-                    best = (wall, summary)
-            wall, summary = best
-            integration = summary["timings_s"]["integration_s"]
-            print(
-                f"{name:12s} {wall:7.2f} s = {simulated / wall:5.1f}x real time "
-                f"{integration:7.2f} s = {simulated / integration:5.1f}x"
+            runs = sorted(
+                (run_once(name, Path(tmp) / f"{name}{k}") for k in range(3)), key=lambda r: r[0]
             )
+            wall, summary = runs[1]
+            law = _creep_law(name)
+            if law not in kernel:
+                kernel[law] = kernel_seconds_per_wheelset(law)
+            integration = summary["timings_s"]["integration_s"]
+            solver = summary["solver"]
+            n_ws = _wheelsets(name)
+            floor = solver["newton_iterations"] * n_ws * kernel[law]
+            calls = solver.get("force_evaluations", 0)
+            in_force = solver.get("force_function_s", float("nan"))
+            print(
+                f"{name:11s} {wall:6.2f} s = {simulated / wall:5.1f}x  "
+                f"{integration:6.2f} s = {simulated / integration:5.1f}x "
+                f"{wall - integration:7.2f} s "
+                f"{in_force:6.2f} s ({calls:6d} calls) "
+                f"{floor:6.2f} s {integration / floor:8.1f}x"
+            )
+        for law, seconds in kernel.items():
+            print(f"contact kernel ({law}): {seconds * 1e6:.2f} us per wheelset evaluation")
+
+
+def _wheelsets(vehicle: str) -> int:
+    from railexu.vehicle import load_vehicle
+
+    return len(load_vehicle(ROOT / "vehicles" / f"{vehicle}.yaml").wheelsets)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@ Design (measured in ``docs/dev/exudyn-api.md``):
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -484,10 +485,17 @@ class VehicleModel:
         # the compiled functions, replaced by their machine-code entries in warm_up()
         self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
 
+        #: calls of the force function and the seconds spent in it (outputs, benchmarks)
+        self.force_calls = counter = np.zeros(2)
+        clock = time.perf_counter
+
         def contact_forces(mbs_, t, item, q, q_t):
+            start = clock()
             if set_time is not None:
                 set_time(t)
             compiled["forces"](np.array(q), np.array(q_t), data, out, points, ws_force)
+            counter[0] += 1.0
+            counter[1] += clock() - start
             return out
 
         jac = np.zeros((n_coords, n_coords))

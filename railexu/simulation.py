@@ -323,10 +323,14 @@ def _solver_statistics(model: VehicleModel) -> dict:
     """Newton iterations, Jacobian updates and steps of Exudyn's solver."""
     try:
         it = model.mbs.sys["dynamicSolver"].it
+        calls, seconds = model.force_calls
         return {
             "newton_iterations": int(it.newtonStepsCount),
             "jacobian_updates": int(it.newtonJacobiCount),
             "steps": int(it.currentStepIndex),
+            # evaluations of the wheel-rail force function and the wall-clock time in them
+            "force_evaluations": int(calls),
+            "force_function_s": float(seconds),
         }
     except (KeyError, AttributeError):
         return {}

@@ -74,6 +74,16 @@ def _worker_init(parent: int | None = None) -> None:
         parent = os.getppid()
     # the parent's id is passed in: a parent killed while this worker started is noticed too
     threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
+    _preload()
+
+
+def _preload() -> None:
+    """Import once per worker what every case needs (numpy, scipy, Exudyn, numba, the model and
+    the assessment), so that a worker's first case costs what its others do and a case's
+    ``run_time_s`` is that of the run itself. A failing import is left to the case to report."""
+    with contextlib.suppress(Exception):
+        from .. import runs  # noqa: F401
+        from ..report import run_files  # noqa: F401
 
 
 PARENT_POLL_S = 0.5

@@ -1,0 +1,74 @@
+"""How a study scales: 16 runs one by one in this process against 2 local worker processes.
+
+The study: the EU07 from the seed's 2 mm offset on 60 m of ideal straight track at 16 speeds
+from 10 to 25 m/s (no plots). Printed:
+
+- the 16 runs one after the other in this process (``workers=0``; this process has run one case
+  before, so its imports and compiled kernels are loaded, as a long session's would be);
+- the same study on 2 local worker processes (started for the study: their start-up, imports and
+  kernel loading are in the time), and the speed-up (issue 11's budget: at least 1.8x on 2
+  cores);
+- the median time of a case inside the workers against the same case as a function call in this
+  process (workers stay warm: a case must not cost more there).
+
+Run: ``python benchmarks/study.py`` (about a minute on 2 cores; a machine with other load gives
+smaller speed-ups).
+"""
+
+from __future__ import annotations
+
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+STUDY = f"""
+format_version: 1
+name: scaling benchmark
+analysis: run
+base:
+  vehicle: {ROOT / "vehicles" / "eu07.yaml"}
+  run: {{distance: 60 m, initial_lateral: 2 mm}}
+vary:
+  parameters:
+    run.speed: {{from: 10 m/s, to: 25 m/s, step: 1 m/s}}
+collect:
+  - max_abs_lateral_force_N
+"""
+
+
+def main() -> None:
+    from railexu import RunSettings, load_vehicle, run
+    from railexu.study import load_study, run_study
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "study.yaml"
+        path.write_text(STUDY, encoding="utf-8")
+        study = load_study(path)
+        n = len(study.cases())
+        vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+        settings = RunSettings(speed_m_per_s=17.0, distance_m=60.0, initial_lateral_m=0.002)
+        run(vehicle, None, settings)  # imports, compiled kernels
+        t0 = time.perf_counter()
+        run(vehicle, None, settings)
+        call = time.perf_counter() - t0
+
+        t0 = time.perf_counter()
+        run_study(study, Path(tmp) / "one_by_one", workers=0)
+        serial = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        result = run_study(study, Path(tmp) / "two_workers", workers=2)
+        parallel = time.perf_counter() - t0
+        in_worker = statistics.median(float(r["run_time_s"]) for r in result.rows)
+
+    print(f"study of {n} runs (EU07, 60 m, 10-25 m/s)")
+    print(f"  one by one in this process: {serial:6.1f} s")
+    print(f"  2 worker processes:         {parallel:6.1f} s   speed-up {serial / parallel:4.2f}x")
+    print(f"  a case at 17 m/s as a function call: {call:5.2f} s; median case in a worker: "
+          f"{in_worker:5.2f} s (ratio {in_worker / call:4.2f})")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
