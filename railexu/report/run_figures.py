@@ -41,6 +41,22 @@ def _finish_axes(ax, xlabel: str, ylabel: str, title: str, legend: bool = True) 
         ax.legend(fontsize="small", loc="upper right")
 
 
+def _deduplicate_legends(fig: Figure) -> None:
+    """Keep the legend of a stacked subplot only where its entries differ from those of a
+    subplot above it in the same column (one legend per column instead of one per wheelset:
+    easier to read, and legends are a tenth of the drawing time)."""
+    shown: dict[float, set] = {}
+    for ax in sorted(fig.axes, key=lambda a: (a.get_position().x0, -a.get_position().y0)):
+        legend = ax.get_legend()
+        if legend is None:
+            continue
+        labels = tuple(t.get_text() for t in legend.get_texts())
+        seen = shown.setdefault(round(ax.get_position().x0, 3), set())
+        if labels in seen:
+            legend.remove()
+        seen.add(labels)
+
+
 def _stacked_figure(rows: int) -> Figure:
     """A figure for ``rows`` stacked subplots with fixed margins (in inches)."""
     height = 1.2 + 2.4 * rows
@@ -191,6 +207,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "lateral force Y [kN]", f"{labels[i]}: lateral force on wheels")
     fig.suptitle(f"{prefix}lateral wheel-rail force (on the wheel, positive left)")
+    _deduplicate_legends(fig)
     figs["lateral_force"] = fig
 
     # 3. Y/Q, flanging wheel positive
@@ -221,6 +238,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "Y/Q (flanging positive) [-]", f"{labels[i]}: Y/Q")
     fig.suptitle(f"{prefix}derailment quotient Y/Q against the EN 14363 limit")
+    _deduplicate_legends(fig)
     figs["y_over_q"] = fig
 
     # 4. wheel load and unloading
@@ -245,6 +263,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _finish_axes(ax_q, xlabel, "wheel load Q [kN]", f"{labels[i]}: wheel load")
         _finish_axes(ax_d, xlabel, "unloading dQ/Q0 [-]", f"{labels[i]}: wheel unloading")
     fig.suptitle(f"{prefix}vertical wheel load Q and unloading (Q0 - Q)/Q0")
+    _deduplicate_legends(fig)
     figs["wheel_load"] = fig
 
     # 5. sum Y
@@ -266,6 +285,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "sum Y [kN]", f"{labels[i]}: track-shifting force")
     fig.suptitle(f"{prefix}track-shifting force sum Y = Y_left + Y_right (EN 14363)")
+    _deduplicate_legends(fig)
     figs["sum_y"] = fig
 
     points = ts.measurement_points()
@@ -313,4 +333,5 @@ def _acceleration_figure(ts, points, summary, prefix, xlabel) -> Figure:
             ax, xlabel, "acceleration [m/s^2]", f"{name}: {', '.join(parts)}" if parts else name
         )
     fig.suptitle(f"{prefix}accelerations and ride comfort (EN 12299 N_MV, Sperling Wz)")
+    _deduplicate_legends(fig)
     return fig
