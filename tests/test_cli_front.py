@@ -210,6 +210,20 @@ def test_importing_railexu_is_cheap():
     assert done.stdout.strip() == ""
 
 
+def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
+    """`railexu run --no-plots` (what a study's cases do) never pays matplotlib's import."""
+    code = (
+        "import sys\n"
+        "from railexu.cli import main\n"
+        f"main(['run', 'wheelset', '--distance', '1', '--no-plots', '--quiet', '--out', "
+        f"{str(tmp_path / 'out')!r}])\n"
+        "print('matplotlib' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "False"
+
+
 def test_warnings_are_printed_on_the_console_too(tmp_path, capsys):
     """The declared axle load against masses and loads: in summary.json and on the console."""
     out = tmp_path / "out"

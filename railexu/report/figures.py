@@ -7,9 +7,12 @@ on any backend, in threads and in worker processes.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
+
+if TYPE_CHECKING:  # matplotlib is imported by the modules that draw (not by a run without plots)
+    from matplotlib.figure import Figure
 
 SIDES = ("left", "right")
 
