@@ -457,6 +457,7 @@ class VehicleModel:
     def _add_contact_element(self) -> None:
         """One ObjectGenericODE2 over the wheelsets (and the bodies joined by bump stops; on
         curved track all bodies, for the frame's inertial forces) with the compiled forces."""
+        import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2
 
         mbs = self.mbs
@@ -517,7 +518,9 @@ class VehicleModel:
         mbs.AddObject(
             ObjectGenericODE2(
                 nodeNumbers=ode_nodes,
-                massMatrix=np.zeros((n_coords, n_coords)),
+                # no mass of its own: an empty matrix container, which Exudyn skips when it
+                # assembles the mass matrix (a dense zero matrix was added at every update)
+                massMatrix=exu.MatrixContainer(),
                 forceUserFunction=contact_forces,
                 jacobianUserFunction=contact_jacobian,
             )
