@@ -210,10 +210,12 @@ def _locus_gap(s, F, F1, F2, rtab, ctx):
 
 
 @numba.njit(inline="always", **_JIT)
-def _scan_gap(s, F, F1, rtab, ctx):
-    """The gap of :func:`_locus_gap` for the coarse scan only: the rail interpolated linearly
-    (0.05 mm table, error ~h^2 z''/8 < 0.1 um, irrelevant for locating minima, which are then
-    refined with the full interpolation) and no derivative. Returns 1e9 off the rail."""
+def _scan_gap_slope(s, F, F1, F2, rtab, ctx):
+    """The gap of :func:`_locus_gap` and its slope ``dg/ds`` for the coarse scan only: the
+    rail's height and slope interpolated linearly (0.05 mm table, error ~h^2 z''/8 < 0.1 um,
+    irrelevant for locating minima, which are then refined with the full interpolation); the
+    slope's sign finds minima that the sampled values miss. Returns ``(1e9, 0)`` off the
+    rail."""
     r = ctx[C_R0] + F
     u = -F1 * ctx[C_TPSI]
     w = math.sqrt(max(1.0 - u * u, 1.0e-12))
@@ -226,12 +228,41 @@ def _scan_gap(s, F, F1, rtab, ctx):
     uu = (Py - ctx[C_RY0]) / step
     n = ctx[C_RN]
     if uu < 0.0 or uu > n - 1.0:
-        return 1.0e9
+        return 1.0e9, 0.0
     i = int(uu)
     if i >= n - 1:
         i = int(n) - 2
     t = uu - i
-    return Pz - ((1.0 - t) * rtab[i, 0] + t * rtab[i + 1, 0])
+    zr = (1.0 - t) * rtab[i, 0] + t * rtab[i + 1, 0]
+    zr1 = (1.0 - t) * rtab[i, 1] + t * rtab[i + 1, 1]
+    du = -F2 * ctx[C_TPSI]
+    dw = -u * du / w
+    dpx = F1 * u + r * du
+    dpz = -F1 * w - r * dw
+    dPy = ctx[C_R21] * dpx + ctx[C_R22] + ctx[C_R23] * dpz
+    dPz = ctx[C_R31] * dpx + ctx[C_R32] + ctx[C_R33] * dpz
+    return Pz - zr, dPz - zr1 * dPy
+
+
+@numba.njit(inline="always", **_JIT)
+def _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g):
+    """Add a refined minimum unless it is already there; keep the deepest ``MAX_POINTS``.
+    Returns the new number of candidates."""
+    for j in range(n_found):
+        if abs(cand_s[j] - s_ref) < 1.0e-7:
+            return n_found
+    if n_found < MAX_POINTS:
+        cand_s[n_found] = s_ref
+        cand_g[n_found] = g_ref
+        return n_found + 1
+    worst = 0
+    for j in range(1, MAX_POINTS):
+        if cand_g[j] > cand_g[worst]:
+            worst = j
+    if g_ref < cand_g[worst]:
+        cand_s[worst] = s_ref
+        cand_g[worst] = g_ref
+    return n_found
 
 
 @numba.njit(**_JIT)
@@ -358,6 +389,7 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
         return 0  # the wheel is nowhere above its rail (or the wheelset is upside down)
     g_prev2 = 1.0e9
     g_prev1 = 1.0e9
+    dg_prev = 0.0
     k_prev1 = -1
     k_prev2 = -1
     # the scanned gaps are kept for the humps between minima below
@@ -368,7 +400,7 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     while k <= k_hi + stride:
         kk = k if k <= k_hi else k_hi
         s = ws0 + kk * wstep
-        g = _scan_gap(s, wtab[kk, 0], wtab[kk, 1], rtab, ctx)
+        g, dg = _scan_gap_slope(s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2], rtab, ctx)
         if k > k_hi:
             g = 1.0e9  # the sentinel that closes a minimum at the edge
         elif j_scan < n_scan:
@@ -383,23 +415,17 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             s_ref = _refine_minimum(sa, sb, wtab, rtab, ctx)
             g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
             if ok_ref:
-                duplicate = False
-                for j in range(n_found):
-                    if abs(cand_s[j] - s_ref) < 1.0e-7:
-                        duplicate = True
-                if not duplicate:
-                    if n_found < MAX_POINTS:
-                        cand_s[n_found] = s_ref
-                        cand_g[n_found] = g_ref
-                        n_found += 1
-                    else:  # keep the deepest MAX_POINTS minima
-                        worst = 0
-                        for j in range(1, MAX_POINTS):
-                            if cand_g[j] > cand_g[worst]:
-                                worst = j
-                        if g_ref < cand_g[worst]:
-                            cand_s[worst] = s_ref
-                            cand_g[worst] = g_ref
+                n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+        if k <= k_hi and k_prev1 >= 0 and g < 1.0e8 and g_prev1 < 1.0e8 and dg_prev < 0.0 <= dg:
+            # the slope turns upwards within the cell [k_prev1, kk]: a minimum that the sampled
+            # values may not show (a minimum and the hump beside it within two cells, as the
+            # S1002 flange and flange root on a 60E1 gauge corner); missing it only at some
+            # positions of the scan grid would make the normal force jump
+            s_ref = _refine_minimum(ws0 + k_prev1 * wstep, s, wtab, rtab, ctx)
+            g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
+            if ok_ref:
+                n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+        dg_prev = dg
         g_prev2 = g_prev1
         k_prev2 = k_prev1
         g_prev1 = g
