@@ -29,7 +29,7 @@ from .contact import kernel as K
 from .curving import track_columns
 from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_VERTICAL, WL_YAW, track_position
 from .model import VehicleModel
-from .preflight import check_initial_offset
+from .preflight import check_initial_offset, check_time_step_for_track
 from .run_settings import RunSettings as RunSettings
 from .run_settings import RunSettingsError as RunSettingsError
 from .run_settings import run_settings_from_dict as run_settings_from_dict
@@ -451,6 +451,7 @@ def simulate(
     track = track or ideal_straight_track()
     t_start = time.perf_counter()
     warnings = check_initial_offset(vehicle, track, settings)
+    warnings += check_time_step_for_track(vehicle, track, settings)
     model = VehicleModel(
         vehicle,
         track,
