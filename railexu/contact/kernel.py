@@ -244,6 +244,47 @@ def _scan_gap_slope(s, F, F1, F2, rtab, ctx):
     return Pz - zr, dPz - zr1 * dPy
 
 
+@numba.njit(**_JIT)
+def _cell_minimum_bracket(sa, sb, ga, dga, gb, dgb, wtab, rtab, ctx):
+    """A bracket ``(lo, hi)`` of a local minimum of the gap inside the scan cell ``[sa, sb]``
+    (``lo >= hi``: none found), from the gap and its slope at the cell's ends.
+
+    - the slope turns upwards (``dga < 0 <= dgb``): the whole cell;
+    - the slope has the same sign at both ends but the cubic Hermite interpolant of the gap
+      says it changes sign twice inside (a minimum and a hump within one cell): the exact slope
+      at the interpolant's slope extremum decides, and the bracket is the part of the cell
+      where the slope turns upwards.
+
+    Only cells touching an overlap (a gap below 0.1 mm at an end) are examined this way."""
+    if dga < 0.0 <= dgb:
+        return sa, sb
+    if min(ga, gb) > 1.0e-4 or (dga < 0.0) != (dgb < 0.0):
+        return 0.0, 0.0
+    h = sb - sa
+    m0 = h * dga
+    m1 = h * dgb
+    # d/dt of the cubic Hermite interpolant on t in [0, 1]: A t^2 + B t + C
+    qa = 6.0 * ga + 3.0 * m0 - 6.0 * gb + 3.0 * m1
+    qb = -6.0 * ga - 4.0 * m0 + 6.0 * gb - 2.0 * m1
+    if qa == 0.0:
+        return 0.0, 0.0
+    t = -qb / (2.0 * qa)
+    if not (0.0 < t < 1.0):
+        return 0.0, 0.0
+    extremum = m0 + qb * t + qa * t * t
+    if (dga < 0.0 and extremum <= 0.0) or (dga >= 0.0 and extremum >= 0.0):
+        return 0.0, 0.0
+    s_mid = sa + t * h
+    g_mid, dg_mid, ok = _gap_at(s_mid, wtab, rtab, ctx)
+    if not ok:
+        return 0.0, 0.0
+    if dga < 0.0 and dg_mid > 0.0:
+        return sa, s_mid  # down, up (the minimum), down again
+    if dga >= 0.0 and dg_mid < 0.0:
+        return s_mid, sb  # up, down, up (the minimum)
+    return 0.0, 0.0
+
+
 @numba.njit(inline="always", **_JIT)
 def _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g):
     """Add a refined minimum unless it is already there; keep the deepest ``MAX_POINTS``.
@@ -414,17 +455,35 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
                 sb = sa + wstep
             s_ref = _refine_minimum(sa, sb, wtab, rtab, ctx)
             g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
-            if ok_ref:
+            # a golden search may end on the bracket's end (no minimum inside): not a point
+            if ok_ref and s_ref - sa > 1.0e-9 and sb - s_ref > 1.0e-9:
                 n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
-        if k <= k_hi and k_prev1 >= 0 and g < 1.0e8 and g_prev1 < 1.0e8 and dg_prev < 0.0 <= dg:
-            # the slope turns upwards within the cell [k_prev1, kk]: a minimum that the sampled
-            # values may not show (a minimum and the hump beside it within two cells, as the
-            # S1002 flange and flange root on a 60E1 gauge corner); missing it only at some
-            # positions of the scan grid would make the normal force jump
-            s_ref = _refine_minimum(ws0 + k_prev1 * wstep, s, wtab, rtab, ctx)
+        # the cell where the locus comes onto (or leaves) the rail: a minimum between the
+        # rail's edge and the first (last) node when the slope there rises (falls)
+        onto = g < 1.0e8 and g_prev1 >= 1.0e8 and dg > 0.0
+        off = g >= 1.0e8 and g_prev1 < 1.0e8 and dg_prev < 0.0
+        if k <= k_hi and k_prev1 >= 0 and (onto or off):
+            s_a = ws0 + k_prev1 * wstep
+            s_ref = _refine_minimum(s_a, s, wtab, rtab, ctx)
             g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
-            if ok_ref:
+            inside = s_ref - s_a > 1.0e-9 and s - s_ref > 1.0e-9
+            if ok_ref and inside and g_ref < min(g_prev1, g):
                 n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+        if k <= k_hi and k_prev1 >= 0 and g < 1.0e8 and g_prev1 < 1.0e8:
+            # minima that the sampled values may not show: the S1002 flange minimum beside the
+            # flat hump towards the flange root on a 60E1 gauge corner lies within one or two
+            # cells; missing it only at some positions of the scan grid makes the normal force
+            # jump (docs/curving.md)
+            s_a = ws0 + k_prev1 * wstep
+            s_lo, s_hi = _cell_minimum_bracket(s_a, s, g_prev1, dg_prev, g, dg, wtab, rtab, ctx)
+            if s_hi > s_lo:
+                s_ref = _refine_minimum(s_lo, s_hi, wtab, rtab, ctx)
+                g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
+                # only a true interior minimum (the scan's linear rail slope may change sign
+                # where the exact slope does not): below the cell's ends, away from them
+                inside = s_ref - s_lo > 1.0e-9 and s_hi - s_ref > 1.0e-9
+                if ok_ref and inside and g_ref < min(g_prev1, g):
+                    n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
         dg_prev = dg
         g_prev2 = g_prev1
         k_prev2 = k_prev1
