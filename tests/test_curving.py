@@ -118,7 +118,6 @@ def test_free_wheelset_rolls_at_the_pure_rolling_position():
                            [f"wheelsets.ws1.wheel_profile=cone:{cone}"])  # fmt: skip
     track = _curve_track(2000.0, 0.0, 260.0, 120.0, rail_profile="round:0.05",
                          inclination="none")  # fmt: skip
-    # (exactly centred, this free wheelset's first Newton steps fail on straight track too)
     result = run(vehicle, track, RunSettings(speed_m_per_s=5.0, distance_m=400.0,
                                              initial_lateral_m=0.001))  # fmt: skip
     assert result.status["state"] in COMPLETED_STATES
@@ -297,8 +296,7 @@ def test_a_curve_turning_beyond_90_degrees_keeps_the_force_balance():
     Tait-Bryan wheelset nodes would be singular: in trajectory coordinates nothing changes
     there. The force balance of the steady curve holds within 1 % both before (heading 40 to
     70 degrees) and after 95 degrees, and the leading wheelset's quasi-static lateral position
-    is the same in both parts (0.05 mm: the remaining sway). (A tighter curve with the EU07
-    meets the Newton failure at the S1002/60E1 contact jump described in docs/curving.md.)"""
+    is the same in both parts (0.05 mm: the remaining sway)."""
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
     radius, cant, speed = 1000.0, 0.1, 30.0
     track = _curve_track(radius, cant, 1960.0, 60.0)
@@ -363,3 +361,19 @@ def test_a_run_can_start_in_a_transition():
         # tangent to the track at the start: a yaw error of the placement would show here
         # (the wheelset's distance from the frame origin over R is up to 10 mrad at 6 m)
         assert abs(result.timeseries["ws1_yaw_rad"][0]) < 1e-4, name
+
+
+def test_the_eu07_passes_the_end_of_the_cant_ramp_in_two_point_contact():
+    """tracks/curve_r300.yaml at 17.2 m/s: the leading wheelsets run at the S1002/60E1
+    flange-root two-point contact when they pass the end of the cant ramp (170 m), where the
+    run used to stop with a Newton failure (a contact force that jumped with the scan grid,
+    docs/curving.md). Started in the transition (track key start) to keep the run short, it
+    now runs through, and the leading outer wheel is seen touching at two points."""
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = load_track(ROOT / "tracks" / "curve_r300.yaml", ["start=120 m"])
+    result = run(vehicle, track, RunSettings(speed_m_per_s=17.2, distance_m=70.0,
+                                             initial_lateral_m=0.0))  # fmt: skip
+    assert result.status["state"] in COMPLETED_STATES, result.status
+    ts = result.timeseries
+    assert ts["ws1_s_m"].max() > 190.0 and ts["ws4_s_m"].max() > 175.0  # all past 170 m
+    assert np.any(ts["ws1_right_n_contacts"] == 2)
