@@ -280,6 +280,20 @@ class Alignment:
         """The constant-radius parts (``curve`` sections) of the geometry."""
         return [sec for sec in self.sections if sec.kind == "curve"]
 
+    def to_dict(self) -> dict:
+        """The geometry as plain lists (JSON), from which :func:`alignment_from_record` rebuilds
+        it exactly: a run's ``summary.json`` keeps it so that ``railexu plot`` can redraw the
+        track and curving figures without the track file."""
+        return {
+            "cant_base_m": float(self.cant_base_m),
+            "pieces": {name: [float(v) for v in getattr(self, name)]
+                       for name in ("start", "length", "k0", "dk", "c0", "dc")},
+            "bloss": [bool(v) for v in self.bloss],
+            "sections": [[sec.kind, sec.start_m, sec.length_m, sec.curvature_1_per_m, sec.cant_m]
+                         for sec in self.sections],
+            "source": self.source,
+        }  # fmt: skip
+
 
 # ---------------------------------------------------------------------------------------------
 def straight_alignment() -> Alignment:
@@ -350,6 +364,29 @@ def alignment_from_samples(
     return Alignment(
         start, length, k[:-1], np.diff(k), c[:-1], np.diff(c), np.zeros(start.size, bool),
         cant_base_m, [DesignSection("measured", 0.0, float(d[-1] - d[0]), 0.0, 0.0)], source,
+    )  # fmt: skip
+
+
+def alignment_from_record(record: dict) -> Alignment:
+    """Rebuild an :class:`Alignment` from :meth:`Alignment.to_dict`'s output.
+
+    Raises:
+        InputError: the record lacks a field or has pieces of different lengths.
+    """
+    try:
+        pieces = {k: np.asarray(record["pieces"][k], dtype=float)
+                  for k in ("start", "length", "k0", "dk", "c0", "dc")}  # fmt: skip
+        bloss = np.asarray(record["bloss"], dtype=bool)
+        sections = [DesignSection(str(k), float(a), float(b), float(c), float(d))
+                    for k, a, b, c, d in record["sections"]]  # fmt: skip
+        base = float(record["cant_base_m"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"track geometry record: missing or bad field ({exc})") from None
+    if len({v.size for v in pieces.values()} | {bloss.size}) != 1 or bloss.size == 0:
+        raise InputError("track geometry record: pieces of different lengths")
+    return Alignment(
+        pieces["start"], pieces["length"], pieces["k0"], pieces["dk"], pieces["c0"],
+        pieces["dc"], bloss, base, sections, str(record.get("source", "")),
     )  # fmt: skip
 
 

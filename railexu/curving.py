@@ -64,9 +64,9 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
     Returns:
         ``{"curves": [{start_m, end_m, radius_m, cant_m, direction, cant_deficiency_m,
         wheelsets: [{name, samples, Y_outer_N, Y_inner_N, Q_outer_N, Q_inner_N, sum_Y_N,
-        Y_over_Q_outer, Tgamma_outer_N, Tgamma_inner_N, angle_of_attack_rad, lateral_m}]}]}``
-        where each quantity is ``{quasi_static, max, min}``; a curve the run did not reach has
-        no wheelset entries.
+        Y_over_Q_outer, Tgamma_outer_N, Tgamma_inner_N, angle_of_attack_rad, lateral_m}]}],
+        geometry}`` where each quantity is ``{quasi_static, max, min}``; a curve the run did
+        not reach has no wheelset entries; ``geometry`` is :meth:`Alignment.to_dict`.
     """
     cols = ts.columns
     speed = cols.get("speed_m_per_s")
@@ -119,4 +119,7 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
         "sign_convention": "Y towards the curve centre, lateral towards the outer rail, "
         "angle of attack positive when the wheelset points to the outside",
         "curves": curves,
+        # the design geometry itself, so that `railexu plot` redraws the track and curving
+        # figures from the run folder alone (railexu.alignment.alignment_from_record)
+        "geometry": alignment.to_dict(),
     }

@@ -53,7 +53,8 @@ from .statics import StaticSolution, attachment_point, static_equilibrium
 from .track import Track
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset
 
-#: Distance of the rearmost wheelset from the start of the track at t = 0 [m].
+#: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
+#: default) at t = 0 [m].
 START_MARGIN_M = 1.0
 
 
@@ -210,7 +211,9 @@ class VehicleModel:
         """The Exudyn system in named steps: bodies, wheelsets, suspension, loads, the contact
         element (with the sampled track), the speed constraint."""
         veh = self.vehicle
-        self.x_start_m = START_MARGIN_M - min(w.position_x_m for w in veh.wheelsets)
+        # the rearmost wheelset starts START_MARGIN_M beyond the track's start distance
+        start = float(getattr(self.track, "start_m", 0.0))
+        self.x_start_m = start + START_MARGIN_M - min(w.position_x_m for w in veh.wheelsets)
         speed_body = next((b for b in veh.bodies if b.name == veh.speed_body), None)
         x_speed = (
             speed_body.position_m[0]
@@ -247,19 +250,56 @@ class VehicleModel:
              for n in self.ode_nodes]
         )  # fmt: skip
 
-    def _centre_line_offset(self, x: float) -> float:
-        """Lateral position of the track centre line in the vehicle frame at the start, at the
-        distance ``x`` along the track [m] (zero on straight track)."""
-        if not self.curved:
-            return 0.0
+    def _track_pose(self, x: float) -> tuple[np.ndarray, np.ndarray]:
+        """The local track frame at the distance ``x`` along the track, in the vehicle frame at
+        the start: ``(origin, rotation)``, the origin (centre line at the top of rail) relative
+        to the frame's origin and the rotation ``R_F^T R_x`` with ``R = Rz(heading) Rx(roll)``.
+
+        The vehicle frame rolls by its smoothed roll and the contact's local frame by the
+        rounded cant (:meth:`railexu.alignment.Alignment.table`), taken from the same table the
+        kernel reads, so that a vehicle placed inside a curve or a transition starts with every
+        wheelset on its local, canted rails, tangent to the track (angle of attack zero)."""
+        from .alignment import TAB_CANT, TAB_FROLL, TAB_PSI
+
         a = self.alignment
         s0 = self.frame_start_m
-        x0, y0 = a.position(s0)
-        x1, y1 = a.position(x)
-        psi = float(a.heading(s0))
-        return float(-(x1 - x0) * math.sin(psi) + (y1 - y0) * math.cos(psi))
+        if not hasattr(self, "_start_table"):
+            reach = self.vehicle_length_m() + 40.0  # > 4 smoothing lengths beyond the vehicle
+            self._start_table = a.table(s0 - reach, s0 + reach)
+        start, step, tab = self._start_table
+        grid = start + step * np.arange(tab.shape[0])
 
-    def _add_rigid_body(self, name, mass, inertia, centre, rotation, velocities=None) -> None:
+        def rotation(s: float, roll_column: int) -> np.ndarray:
+            psi = float(np.interp(s, grid, tab[:, TAB_PSI]))
+            roll = float(np.interp(s, grid, tab[:, roll_column]))
+            cz, sz, cx, sx = math.cos(psi), math.sin(psi), math.cos(roll), math.sin(roll)
+            rz = np.array([[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]])
+            rx = np.array([[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]])
+            return rz @ rx
+
+        frame = rotation(s0, TAB_FROLL)
+        (x0, y0), (x1, y1) = a.position(s0), a.position(x)
+        origin = frame.T @ np.array([float(x1 - x0), float(y1 - y0), 0.0])
+        return origin, frame.T @ rotation(x, TAB_CANT)
+
+    def _placed(self, x: float, local: np.ndarray, rotation: np.ndarray):
+        """Nominal centre (straight track: ``(x, local y, local z)``) and, on a curved track,
+        the initial displacement and rotation that put a body with its centre at ``local``
+        (lateral and vertical, in the local track frame at ``x``) and the reference rotation
+        ``rotation`` onto the track: ``(centre, displacement | None, rotation | None)``.
+
+        The nominal centre stays the reference position, so that the suspension's unstressed
+        lengths are those of straight track; the curve's placement is the initial state."""
+        centre = np.array([x, local[1], local[2]])
+        if not self.curved:
+            return centre, None, None
+        origin, turn = self._track_pose(x)
+        placed = np.array([self.frame_start_m, 0.0, 0.0]) + origin + turn @ local
+        return centre, placed - centre, rotation.T @ turn @ rotation
+
+    def _add_rigid_body(
+        self, name, mass, inertia, centre, rotation, velocities=None, displacement=None, turn=None
+    ) -> None:
         import exudyn as exu
         from exudyn.rigidBodyUtilities import RigidBodyInertia
 
@@ -268,6 +308,8 @@ class VehicleModel:
             nodeType=exu.NodeType.RotationRxyz,
             referencePosition=list(centre),
             referenceRotationMatrix=rotation,
+            initialDisplacement=None if displacement is None else list(displacement),
+            initialRotationMatrix=turn,
             initialVelocity=[self.speed, 0.0, 0.0],
             gravity=[0.0, 0.0, -self.vehicle.gravity_m_per_s2],
             returnDict=True,
@@ -281,17 +323,19 @@ class VehicleModel:
         self.inertia[name] = (float(mass), np.asarray(inertia, dtype=float))
 
     def _add_bodies(self) -> None:
-        """Car bodies and bogie frames at their nominal positions (plus the initial offset)."""
+        """Car bodies and bogie frames at their nominal positions (plus the initial offset),
+        on a curved track placed on the local track frame under them."""
         y0 = self.initial_lateral_m
         for b in self.vehicle.bodies:
             x = self.x_start_m + b.position_m[0]
-            y = b.position_m[1] + y0 + self._centre_line_offset(x)
-            c = np.array([x, y, b.position_m[2]])
-            self._add_rigid_body(b.name, b.mass_kg, b.inertia_kg_m2, c, np.eye(3))
+            local = np.array([0.0, b.position_m[1] + y0, b.position_m[2]])
+            c, d, turn = self._placed(x, local, np.eye(3))
+            self._add_rigid_body(b.name, b.mass_kg, b.inertia_kg_m2, c, np.eye(3), None, d, turn)
 
     def _add_wheelsets(self) -> None:
         """Wheelsets pressed onto the rails, spinning at their free-rolling rate; the axle is
-        the body's third axis (spin is the last angle)."""
+        the body's third axis (spin is the last angle). On a curved track each is placed on
+        its local rails, tangent to the track."""
         from exudyn.rigidBodyUtilities import RotationMatrixX
 
         V = self.speed
@@ -299,11 +343,11 @@ class VehicleModel:
             self.vehicle.wheelsets, self.initial_wheelsets, self.initial_spin_rates, strict=True
         ):
             x = self.x_start_m + ws.position_x_m
-            c = np.array([x, st.lateral_m + self._centre_line_offset(x), st.vertical_m])
             rot = RotationMatrixX(st.roll_rad - 0.5 * math.pi)
+            c, d, turn = self._placed(x, np.array([0.0, st.lateral_m, st.vertical_m]), rot)
             # free rolling: the spin at which the wheelset carries no longitudinal creep force
             self._add_rigid_body(
-                ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate]
+                ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate], d, turn
             )
 
     def _local_point(self, body: str, p_vehicle) -> tuple[np.ndarray, np.ndarray]:

@@ -151,3 +151,66 @@ def check_initial_offset(vehicle, track, settings) -> list[str]:
                 "with a flange impact"
             )
     return warnings
+
+
+#: Largest product of the rail masses' contact mode's angular frequency and the step: the
+#: generalized-alpha step resolves a mode with omega h below 1 (some six steps per period,
+#: Chung & Hulbert 1993); above, the mode's single-step force peaks depend on the step.
+MAX_OMEGA_STEP = 1.0
+
+
+def rail_contact_mode_rad_per_s(vehicle, track) -> float | None:
+    """Angular frequency of an elastic track's rail mass on the stiffer of its ground spring
+    and the wheel-rail contact [rad/s]: ``sqrt((k_rail + k_H) / m_rail)`` with Hertz's contact
+    stiffness ``k_H = 1.5 Q / delta`` (``Q = K delta^1.5``) at the static wheel load, the
+    largest over the wheels. None on a rigid track.
+
+    This is the mode of the P1 force of Jenkins et al. (1974, "The effect of track and
+    vehicle parameters on wheel/rail vertical dynamic forces", Railway Engineering Journal 3):
+    the rail mass oscillating on the contact spring, some hundreds of Hz."""
+    elastic = getattr(track, "elastic", None)
+    if elastic is None:
+        return None
+    from .contact.evaluation import WheelsetContactModel
+    from .contact.quasistatic import press_wheelset
+    from .model import wheelset_geometry
+    from .statics import static_equilibrium
+
+    k_contact = 0.0
+    geometries = [wheelset_geometry(ws, track) for ws in vehicle.wheelsets]
+    tape = [g.left.tape_circle_lateral_m for g in geometries]
+    loads = static_equilibrium(vehicle, tape).wheel_loads_N
+    for geometry, load in zip(geometries, loads, strict=True):
+        model = WheelsetContactModel(geometry, vehicle.contact)
+        try:
+            st = press_wheelset(model, 0.0, 0.0, (float(load[0]), float(load[1])))
+        except RuntimeError:
+            continue  # the run itself reports a wheelset that cannot carry its load
+        result = model.evaluate(st.lateral_m, st.vertical_m, st.roll_rad, 0.0)
+        for p in result.points:
+            if p.penetration_m > 0.0 and p.normal_force_N > 0.0:
+                k_contact = max(k_contact, 1.5 * p.normal_force_N / p.penetration_m)
+    k_rail = max(elastic.lateral_stiffness_N_per_m, elastic.vertical_stiffness_N_per_m)
+    return math.sqrt((k_rail + k_contact) / elastic.rail_mass_kg)
+
+
+def check_time_step_for_track(vehicle, track, settings) -> list[str]:
+    """On an elastic track, a warning naming ``time_step`` when the step does not resolve the
+    rail masses' contact mode (:func:`rail_contact_mode_rad_per_s`). Measured on the EU07 bogie
+    at 45 m/s (docs/curving.md): the hunting amplitude, the rails' spring forces and the 20 Hz
+    low-pass wheel-rail forces do not depend on the step, the unfiltered force peaks do, and
+    converge only slowly even below this step (298, 376, 501 kN at 0.5, 0.25, 0.125 ms)."""
+    omega = rail_contact_mode_rad_per_s(vehicle, track)
+    if omega is None:
+        return []
+    h_max = MAX_OMEGA_STEP / omega
+    h = float(settings.time_step_s)
+    if h <= h_max:
+        return []
+    return [
+        f"time_step: {h * 1e3:g} ms does not resolve the elastic track's rail-mass contact mode "
+        f"({omega / (2.0 * math.pi):.0f} Hz: rail mass on the wheel-rail contact spring); use "
+        f"at most {h_max * 1e3:.2g} ms to resolve it. Unfiltered wheel-rail force peaks on the "
+        "elastic track depend on the step even then; the hunting, the rail deflections and "
+        "filtered forces do not (docs/curving.md)"
+    ]

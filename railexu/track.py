@@ -82,6 +82,8 @@ class Track:
     alignment: Alignment | None = field(default=None, compare=False)
     # elastic track (railexu.track_model); None: rigid
     elastic: ElasticTrack | None = None
+    # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
+    start_m: float = 0.0
 
     @property
     def inclination_rad(self) -> float:
@@ -169,6 +171,7 @@ def track_from_dict(
         source=source,
         alignment=alignment,
         elastic=elastic,
+        start_m=TRACK.read(top, "start"),
     )
 
 

@@ -121,6 +121,9 @@ TRACK = Schema(
               unit="m", default=STANDARD_GAUGE_M, minimum=1.0, maximum=2.0),
         Field("geometry", "track geometry by `type`", "model", default={"type": "straight"},
               models=GEOMETRY, selector="type"),
+        Field("start", "distance along the geometry where a run starts: the rearmost wheelset "
+              "stands 1 m beyond it, on a curve placed on its local canted rails", unit="m",
+              default=0.0, minimum=0.0, maximum=MAX_LENGTH_M),
         Field("track_model", "rigid, or elastic (`elastic` or {type: elastic, ...})", "model",
               default={"type": "rigid"}, models=TRACK_MODEL, selector="type"),
         Field("irregularities", "irregularities by `type`, their parameters nested", "model",

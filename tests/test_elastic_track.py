@@ -76,3 +76,29 @@ def test_rail_deflection_is_force_over_stiffness_in_a_steady_curve():
             dz = float(np.mean(ts[f"ws{i}_{side}_rail_vertical_m"][steady]))
             assert dy == pytest.approx(-y / k_y, rel=0.01, abs=1e-7)
             assert dz == pytest.approx((loads[w, s] - q) / k_z, rel=0.01, abs=1e-7)
+
+
+def test_a_step_too_large_for_the_rail_masses_contact_mode_is_warned():
+    """The rail mass on the wheel-rail contact spring (the P1 mode of Jenkins et al. 1974) is
+    some hundreds of Hz; a step that does not resolve it (omega h > 1) makes the force peaks
+    step-dependent, so the run warns, naming the key. The mode's frequency goes as
+    1/sqrt(mass) (exactly: the springs do not depend on it)."""
+    from railexu.preflight import check_time_step_for_track, rail_contact_mode_rad_per_s
+
+    vehicle = load_vehicle(ROOT / "vehicles" / "wheelset.yaml")
+    rigid = track_from_dict({"format_version": 1, "name": "rigid"})
+    assert rail_contact_mode_rad_per_s(vehicle, rigid) is None
+    tracks = [
+        track_from_dict({"format_version": 1, "name": "elastic",
+                         "track_model": {"type": "elastic", "rail_mass": f"{m} kg"}})
+        for m in (150.0, 600.0)
+    ]  # fmt: skip
+    omega = [rail_contact_mode_rad_per_s(vehicle, t) for t in tracks]
+    assert omega[0] == pytest.approx(2.0 * omega[1], rel=1e-12)
+    # Hertz stiffness of a 98 kN S1002/60E1 contact ~1.5e9-2e9 N/m: 500-700 Hz on 150 kg
+    assert 300.0 < omega[0] / (2.0 * np.pi) < 1000.0
+    coarse = RunSettings(speed_m_per_s=45.0, time_step_s=2e-3)
+    (message,) = check_time_step_for_track(vehicle, tracks[0], coarse)
+    assert message.startswith("time_step:") and "ms" in message
+    fine = RunSettings(speed_m_per_s=45.0, time_step_s=0.9 / omega[0])
+    assert check_time_step_for_track(vehicle, tracks[0], fine) == []

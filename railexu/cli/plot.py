@@ -52,8 +52,28 @@ def command(args: argparse.Namespace) -> int:
         speed = (summary.get("settings") or {}).get("speed_m_per_s")
         title = f"{summary.get('vehicle', '')}" + (f" at {speed:g} m/s" if speed else "")
     written = []
-    for name, fig in run_figures(ts, summary, title).items():
+    figures = run_figures(ts, summary, title)
+    figures.update(_curved_track_figures(ts, summary, title))
+    for name, fig in figures.items():
         written.extend(save_figure(fig, folder / name, formats=formats))
     add_to_manifest(folder, [p.name for p in written])
     print(f"railexu plot: wrote {len(written)} files to {folder}")
     return 0
+
+
+def _curved_track_figures(ts, summary: dict | None, title: str) -> dict:
+    """The track and curving figures of a run on a curved track, from the design geometry
+    that ``summary.json`` keeps (``curving.geometry``); none for straight track or a summary
+    written before the geometry was kept there."""
+    from ..alignment import alignment_from_record
+    from ..errors import InputError
+    from ..report.curving_figures import curved_track_figures
+
+    record = ((summary or {}).get("curving") or {}).get("geometry")
+    if record is None:
+        return {}
+    try:
+        alignment = alignment_from_record(record)
+    except InputError as exc:
+        raise CliError(f"summary.json: {exc}") from None
+    return curved_track_figures(ts, alignment, str((summary or {}).get("track", "")), title)

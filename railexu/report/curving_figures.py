@@ -64,3 +64,18 @@ def curving_figure(ts: TimeSeries, alignment: Alignment, title: str = "") -> Fig
     if title:
         fig.suptitle(f"{title}: curving (shaded: transitions, curves)")
     return fig
+
+
+def curved_track_figures(
+    ts: TimeSeries, alignment: Alignment, track_name: str = "", title: str = ""
+) -> dict[str, Figure]:
+    """The figures a run on a curved track draws besides the common ones: ``track`` (plan,
+    curvature and cant) and ``curving``; none on a straight track."""
+    if alignment.is_straight:
+        return {}
+    from .track_figures import track_figure
+
+    return {
+        "track": track_figure(alignment, track_name),
+        "curving": curving_figure(ts, alignment, title),
+    }
