@@ -279,7 +279,8 @@ def hertz_m_n(theta_rad: float) -> tuple[float, float]:
 @functools.lru_cache(maxsize=8)
 def hertz_table(n: int = 1024, beta_min: float = HERTZ_BETA_MIN) -> np.ndarray:
     """Table for :func:`hertz_coefficients_nb`, uniform in ``log(beta)``; built once per process
-    and argument pair (read-only: every model and wheelset shares it).
+    and argument pair and shared by every model and wheelset (do not modify it; it is not
+    flagged read-only because numba compiles read-only arrays into different machine code).
 
     Columns: ``log(beta)``, ``f_K``, ``f_short``, ``f_long`` with ``f_K = sqrt(E)/(g K^1.5)``,
     ``f_short = sqrt(E/(2K))``, ``f_long = f_short/g``, so that
@@ -315,7 +316,6 @@ def hertz_table(n: int = 1024, beta_min: float = HERTZ_BETA_MIN) -> np.ndarray:
         table[i, 2] = f_short
         table[i, 3] = f_short / g
     table[-1, 0] = 0.0
-    table.flags.writeable = False
     return table
 
 
