@@ -21,12 +21,12 @@ point from the first along the axis, measured from the nominal (static) geometry
   This is a Maxwell element (damper with its bush stiffness; air-spring reservoir) or, with the
   friction law, a spring in series with a slider (stick-slip, elastic-plastic friction). The
   small mass ``m_i = k_s / omega_i^2`` keeps the coordinate an Exudyn ODE2 coordinate (the
-  linearised system of :mod:`railexu.stability.linear` needs a regular mass matrix);
-  ``omega_i`` (:data:`INTERNAL_FREQUENCY_HZ`) is far above the vehicle's frequencies, and
-  ``c_v = max(0, 2 k_s / omega_i - min g')`` makes the internal mode at least critically damped
-  (it adds nothing to a damper whose slope exceeds ``2 k_s / omega_i``; for friction it is a
-  viscous force of ``2 k_s / omega_i`` times the sliding velocity, 0.3 % of ``F_c`` at 10 mm/s for
-  typical values).
+  linearised system of :mod:`railexu.stability.linear` needs a regular mass matrix), with
+  ``omega_i = max(2 pi 1 kHz, 20 k_s / c_ref)`` far above the vehicle's frequencies; ``c_ref`` is
+  the law's least slope (a damper's coefficient), or for friction and flat tables a tenth of its
+  largest force per m/s. ``c_v = max(0, 2 k_s / omega_i - min g')`` makes the internal mode at
+  least critically damped: nothing for a damper (its slope exceeds ``2 k_s / omega_i`` tenfold),
+  for friction a viscous force of at most 1 % of ``F_c`` per m/s of sliding velocity.
 
 The kernel rows are built by :func:`kernel_arrays`; :func:`suspension_forces` adds all
 elements' generalized forces and :func:`suspension_jacobian` their finite-difference Jacobian;
@@ -53,6 +53,9 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: Frequency of an internal coordinate's mass on its series spring [Hz]: far above the
 #: vehicle's (< 30 Hz) and contact-relevant suspension frequencies; the mode is overdamped.
 INTERNAL_FREQUENCY_HZ = 1000.0
+#: ``omega_i >= 20 k_s / c_ref``: the internal mass shifts the Maxwell pole ``k_s / c`` by less
+#: than ``(k_s / (omega_i c))^2 = 0.25 %``.
+INTERNAL_STIFFNESS_RATIO = 20.0
 
 #: Columns of a kernel element's integer row.
 SI_SLOT0 = 0  # node slot of the first body
@@ -291,19 +294,36 @@ class KernelElement:
         """Least slope of the series law [N s/m] (0 for friction: it saturates)."""
         if self.law == LAW_TABLE and self.law_table is not None:
             t = self.law_table
-            return float(np.min(np.diff(t[:, 1]) / np.diff(t[:, 0])))
+            return max(float(np.min(np.diff(t[:, 1]) / np.diff(t[:, 0]))), 0.0)
         return 0.0
+
+    def reference_damping_N_s_per_m(self) -> float:
+        """``c_ref`` of the internal coordinate: the law's least slope, or for friction and
+        flat tables a tenth of its largest force per m/s."""
+        c_min = self.minimum_law_slope()
+        if c_min > 0.0:
+            return c_min
+        if self.law == LAW_TABLE and self.law_table is not None:
+            return 0.1 * float(np.max(np.abs(self.law_table[:, 1])))
+        return 0.1 * self.friction_force_N
+
+    def internal_omega_rad_per_s(self) -> float:
+        """``omega_i = max(2 pi f_i, 20 k_s / c_ref)``."""
+        return max(
+            2.0 * math.pi * INTERNAL_FREQUENCY_HZ,
+            INTERNAL_STIFFNESS_RATIO * self.series_stiffness_N_per_m
+            / self.reference_damping_N_s_per_m(),
+        )  # fmt: skip
 
     def internal_mass_kg(self) -> float:
         """``m_i = k_s / omega_i^2`` of its internal coordinate."""
-        omega = 2.0 * math.pi * INTERNAL_FREQUENCY_HZ
-        return self.series_stiffness_N_per_m / omega**2
+        return self.series_stiffness_N_per_m / self.internal_omega_rad_per_s() ** 2
 
     def internal_damping_N_s_per_m(self) -> float:
         """``c_v = max(0, 2 k_s / omega_i - min g')``: the internal mode at least critically
         damped."""
-        omega = 2.0 * math.pi * INTERNAL_FREQUENCY_HZ
-        return max(0.0, 2.0 * self.series_stiffness_N_per_m / omega - self.minimum_law_slope())
+        critical = 2.0 * self.series_stiffness_N_per_m / self.internal_omega_rad_per_s()
+        return max(0.0, critical - self.minimum_law_slope())
 
 
 def smooth_table(x, f, per_interval: int = 16) -> np.ndarray:
