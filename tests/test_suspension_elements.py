@@ -573,7 +573,8 @@ def test_yaw_damper_with_soft_bushes_equals_its_dynamic_stiffness_at_the_eigenva
     of the model, each damper acts as K(s) = k c s / (k + c s). Replacing the dampers by linear
     spring-dampers with k_e + c_e s = K(s) (c_e = Im K / Im s, k_e = Re K - c_e Re s) must leave
     s an eigenvalue of the linear model: checked for the least damped hunting mode within
-    0.5 % (the internal mass's (k / (omega_i c))^2 and the finite differences)."""
+    1e-4 of |s| (the internal mass shifts it by (k / (omega_i c))^2 = 1e-5; measured 1e-6; the
+    pure damper's eigenvalue differs by 12 %)."""
     k, c = 5.0e6, 250e3
     model, mats = _linearised(_coach_with_yaw_dampers(k, c))
     from railexu.stability.linear import _least_damped, lateral_modes
@@ -590,7 +591,7 @@ def test_yaw_damper_with_soft_bushes_equals_its_dynamic_stiffness_at_the_eigenva
     a = np.block([[np.zeros((n, n)), np.eye(n)],
                   [-np.linalg.solve(m2, k2), -np.linalg.solve(m2, d2)]])  # fmt: skip
     values = np.linalg.eigvals(a)
-    assert np.min(np.abs(values - s)) < 5e-3 * abs(s)
+    assert np.min(np.abs(values - s)) < 1e-4 * abs(s)
 
 
 # -- bad inputs ---------------------------------------------------------------------------------
