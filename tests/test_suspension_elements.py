@@ -21,6 +21,7 @@ from railexu.errors import InputError
 from railexu.statics import static_equilibrium
 from railexu.suspension_forces import (
     LAW_FRICTION,
+    LAW_PLASTIC,
     LAW_TABLE,
     KernelElement,
     characteristic_table,
@@ -419,11 +420,11 @@ def test_mass_on_coulomb_friction_under_a_sine_force_sticks_and_slips_as_exact()
 def test_friction_with_stick_stiffness_dissipates_the_elastic_plastic_loop():
     """A slider (F_c = 4 kN) behind a stick stiffness k = 5 MN/m under an imposed displacement
     X sin(omega t), X = 4 mm, 5 Hz: the elastic-perfectly-plastic loop (Masing) dissipates
-    4 F_c (X - F_c / k) per cycle and peaks at F_c. Tolerance 1 %: the regularisation (slip
-    velocity 1 mm/s against sliding speeds up to 126 mm/s) rounds the corners of the loop."""
+    4 F_c (X - F_c / k) per cycle and peaks at F_c. Tolerance 2 %: the viscoplastic flow adds
+    (|v| / 10 m/s) F_c while sliding, up to 1.3 % at the 126 mm/s here."""
     f_c, k, x_amp, omega = 4.0e3, 5.0e6, 4e-3, 10 * math.pi
-    el = KernelElement("fr", ("a", "b"), (0, 0, 0), AXIS, law=LAW_FRICTION, friction_force_N=f_c,
-                       slip_velocity_m_per_s=1e-3, series_stiffness_N_per_m=k)  # fmt: skip
+    el = KernelElement("fr", ("a", "b"), (0, 0, 0), AXIS, law=LAW_PLASTIC, friction_force_N=f_c,
+                       series_stiffness_N_per_m=k)  # fmt: skip
     rig = Rig(el)
     period = 2 * math.pi / omega
     t, force = rig.imposed(lambda t: x_amp * math.sin(omega * t),
@@ -432,8 +433,8 @@ def test_friction_with_stick_stiffness_dissipates_the_elastic_plastic_loop():
     last = t >= 2 * period
     x = x_amp * np.sin(omega * t[last])
     energy = _loop_energy(x, force[last])
-    assert energy == pytest.approx(4 * f_c * (x_amp - f_c / k), rel=1e-2)
-    assert np.max(np.abs(force[last])) == pytest.approx(f_c, rel=1e-2)
+    assert energy == pytest.approx(4 * f_c * (x_amp - f_c / k), rel=2e-2)
+    assert np.max(np.abs(force[last])) == pytest.approx(f_c, rel=2e-2)
 
 
 # -- UIC link -----------------------------------------------------------------------------------
@@ -474,11 +475,11 @@ def test_uic_link_lateral_hysteresis_loop():
     """A link (W = 50 kN, L = 0.2 m, mu = 0.1, stick stiffness 2 MN/m) driven laterally by
     X sin(omega t), X = 10 mm: the pendulum W / L is conservative, the friction element
     dissipates 4 mu W (X - mu W / k) per cycle; at the turning points the force is
-    W X / L + mu W. Tolerance 1 % (regularised corners: slip velocity 1 mm/s, sliding at up to
-    0.3 m/s)."""
-    w, length, mu, k, x_amp, omega = 50e3, 0.2, 0.1, 2e6, 10e-3, 10 * math.pi
+    W X / L + mu W. Tolerance 1 % (the viscoplastic flow adds up to 0.6 % of mu W at the
+    63 mm/s of sliding here)."""
+    w, length, mu, k, x_amp, omega = 50e3, 0.2, 0.1, 2e6, 10e-3, 2 * math.pi
     el = KernelElement("link_y", ("a", "b"), (0, 0, 0), AXIS, parallel_stiffness_N_per_m=w / length,
-                       law=LAW_FRICTION, friction_force_N=mu * w, slip_velocity_m_per_s=1e-3,
+                       law=LAW_PLASTIC, friction_force_N=mu * w,
                        series_stiffness_N_per_m=k)  # fmt: skip
     rig = Rig(el)
     period = 2 * math.pi / omega
