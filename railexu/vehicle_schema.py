@@ -287,7 +287,7 @@ ELEMENTS = {
             _ESTIMATE, _NOTES,
         ),
         "An air spring with its reservoir, vertical: k1 in parallel with k2 in series with c "
-        "(a linear model in the manner of Berg 1999 / Nishimura); it carries its static load.",
+        "(the linear reservoir model; Berg 1999 adds friction); it carries its static load.",
     ),
     "anti_roll_bar": Schema(
         "anti_roll_bar",

@@ -64,8 +64,9 @@ class Rig:
         suspension_forces(q, qt, self.qref, self.si, self.sr, self.tab, out)
         return out[6 + AXIS], (out[12] if self.n == 13 else 0.0)
 
-    def imposed(self, x_of_t, v_of_t, t_end, n_out=4000):
-        """Force on the mass under an imposed motion ``x(t)`` (internal coordinate integrated)."""
+    def imposed(self, x_of_t, v_of_t, t_end, n_out=4000, u0=(0.0, 0.0)):
+        """Force on the mass under an imposed motion ``x(t)`` (internal coordinate integrated
+        from ``u0`` = (u, u'))."""
         t_eval = np.linspace(0.0, t_end, n_out)
         if self.n == 12:
             return t_eval, np.array([-self.forces(x_of_t(t), v_of_t(t))[0] for t in t_eval])
@@ -74,7 +75,7 @@ class Rig:
             _, g = self.forces(x_of_t(t), v_of_t(t), y[0], y[1])
             return [y[1], g / self.m_i]
 
-        sol = solve_ivp(rhs, (0.0, t_end), [0.0, 0.0], method="Radau", t_eval=t_eval,
+        sol = solve_ivp(rhs, (0.0, t_end), list(u0), method="Radau", t_eval=t_eval,
                         rtol=1e-8, atol=1e-12, jac=_jacobian(rhs))  # fmt: skip
         force = [-self.forces(x_of_t(t), v_of_t(t), u, ut)[0]
                  for t, u, ut in zip(t_eval, sol.y[0], sol.y[1], strict=True)]  # fmt: skip
@@ -113,6 +114,14 @@ def _jacobian(rhs, h=1e-9):
         return np.column_stack(cols)
 
     return jac
+
+
+def _maxwell_start(k, c, omega, x_amp):
+    """The steady state of a Maxwell element's internal coordinate at t = 0 under
+    ``x = X sin(omega t)``: ``u = Im(U e^(i omega t))``, ``U = X k / (k + i omega c)``, so that
+    the record starts without the transient (its time constant c / k may be long)."""
+    big_u = x_amp * k / (k + 1j * omega * c)
+    return big_u.imag, omega * big_u.real
 
 
 def _harmonic_fit(t, force, omega, x_amp):
@@ -242,7 +251,7 @@ def test_statics_give_the_nonlinear_springs_their_share_of_the_car_body():
 def test_vehicle_on_nonlinear_and_air_springs_starts_in_equilibrium():
     """EU07 on progressive springs, air springs, yaw dampers with bushes, friction and an
     anti-roll bar, on ideal straight track: the preloads hold it at rest (wheel loads within
-    1 N of the statics over 0.4 s; the contact's own settling is of that order)."""
+    0.5 N of the statics over 0.4 s)."""
     vehicle = _nonlinear_secondary()
     extra = {
         "air": {"type": "air_spring", "bodies": ["car_body", "bogie_1"],
@@ -272,9 +281,9 @@ def test_vehicle_on_nonlinear_and_air_springs_starts_in_equilibrium():
     for w, ws in enumerate(vehicle.wheelsets):
         for s, side in enumerate(("left", "right")):
             q = np.asarray(ts[f"{ws.name}_{side}_Q_N"])
-            # 1 N of ~100 kN: the tape-circle lateral position differs from the 0.75 m assumed
-            # here by well under a millimetre
-            assert np.max(np.abs(q - statics.wheel_loads_N[w, s])) < 0.01 * abs(q[0]) + 1.0
+            # 0.5 N of ~100 kN (measured 0.07 N): the statics here assume the contact points
+            # at 0.75 m, the model finds them within a fraction of a millimetre of that
+            assert np.max(np.abs(q - statics.wheel_loads_N[w, s])) < 0.5
 
 
 # -- dampers --------------------------------------------------------------------------------------
@@ -303,10 +312,12 @@ def test_maxwell_damper_dynamic_stiffness(ratio):
     rig = Rig(el)
     omega = ratio * k / c
     x_amp = 1e-3
-    periods = 12 if ratio >= 1 else 4
-    t_end = periods * 2 * math.pi / omega + 10 * c / k
-    t, force = rig.imposed(lambda t: x_amp * math.sin(omega * t),
-                           lambda t: x_amp * omega * math.cos(omega * t), t_end)  # fmt: skip
+    t, force = rig.imposed(
+        lambda t: x_amp * math.sin(omega * t),
+        lambda t: x_amp * omega * math.cos(omega * t),
+        4 * 2 * math.pi / omega,
+        u0=_maxwell_start(k, c, omega, x_amp),
+    )
     measured = _harmonic_fit(t, force, omega, x_amp)
     expected = k * c * 1j * omega / (k + c * 1j * omega)
     assert abs(measured - expected) < 5e-3 * abs(expected)
@@ -331,11 +342,11 @@ def test_air_spring_dynamic_stiffness_from_static_to_high_frequency():
     for ratio, expected_abs in [(0.01, k1), (1.0, None), (100.0, k1 + k2)]:
         omega = ratio * k2 / c
         x_amp = 1e-3
-        t_end = (4 if ratio < 1 else 12) * 2 * math.pi / omega + 10 * c / k2
         t, force = rig.imposed(
             lambda t, w=omega, a=x_amp: a * math.sin(w * t),
             lambda t, w=omega, a=x_amp: a * w * math.cos(w * t),
-            t_end,
+            4 * 2 * math.pi / omega,
+            u0=_maxwell_start(k2, c, omega, x_amp),
         )
         measured = k1 + _harmonic_fit(t, force, omega, x_amp)  # k1 is the linear connector
         exact = k1 + k2 * c * 1j * omega / (k2 + c * 1j * omega)
