@@ -21,6 +21,9 @@ from dataclasses import dataclass
 
 from .errors import InputError
 from .inputs import OPTIONAL, Field, Schema, Section
+from .speed_profile import SpeedProfile, SpeedProfileError
+from .traction import BASES, Schedule, Traction, TractionError
+from .units import UnitError, to_si
 
 #: Largest distance the vehicle may travel in one integration step [m] (see the module doc).
 MAX_TRAVEL_PER_STEP_M = 0.3
@@ -64,7 +67,10 @@ RUN_SCHEMA = Schema(
               default=False),
     ),
     "Settings of one run (`base.run` of a study; `railexu run` options).",
+    extra_keys=("speed_profile", "traction"),  # tables: read by run_settings_from_dict
 )  # fmt: skip
+#: Keys of a ``traction`` section (docs/traction-and-braking.md).
+TRACTION_KEYS = ("torque", "wheelsets", "brake_force", "time_limit")
 
 #: The keys of a run-settings mapping (study ``run.*`` parameters).
 RUN_KEYS = RUN_SCHEMA.keys()
@@ -89,7 +95,14 @@ class RunSettings:
         derailment_lateral_m: a wheelset further than this from the track centre has left the
             rails: the run stops as ``derailed``.
         deceleration_m_per_s2: a constant deceleration from ``speed_m_per_s`` (the ramp method
-            of the critical speed); the speed must stay positive over ``distance_m``.
+            of the critical speed); the speed must stay positive over ``distance_m``. A special
+            case of ``speed_profile``.
+        speed_profile: the forward speed along the track (:class:`railexu.speed_profile.
+            SpeedProfile`, constant acceleration between its points); it sets
+            ``speed_m_per_s`` to its start speed and must cover ``distance_m``.
+        traction: traction torque and brake force with the forward motion free
+            (:class:`railexu.traction.Traction`, ``docs/traction-and-braking.md``);
+            ``speed_m_per_s`` is then the start speed.
     """
 
     speed_m_per_s: float = _D("speed")
@@ -106,8 +119,12 @@ class RunSettings:
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
     deceleration_m_per_s2: float = 0.0
+    speed_profile: SpeedProfile | None = None
+    traction: Traction | None = None
 
     def __post_init__(self) -> None:
+        if self.speed_profile is not None:
+            object.__setattr__(self, "speed_m_per_s", self.speed_profile.start_speed_m_per_s)
         for key, value in (
             ("speed", self.speed_m_per_s),
             ("distance", self.distance_m),
@@ -135,7 +152,8 @@ class RunSettings:
         if not 0.0 < self.derailment_lift_fraction <= 1.0:
             _fail("derailment_lift_fraction", "must be in (0, 1]")
         self._check_deceleration()
-        check_step_for_speed(self.speed_m_per_s, self.time_step_s)
+        self._check_profile()
+        check_step_for_speed(self.max_speed_m_per_s, self.time_step_s)
         steps = self.duration_s / self.time_step_s
         if steps > MAX_STEPS:
             _fail("distance", f"{self.distance_m:g} m at {self.speed_m_per_s:g} m/s in steps of "
@@ -151,8 +169,59 @@ class RunSettings:
         if self.speed_m_per_s**2 - 2.0 * a * self.distance_m <= 0.0:
             _fail("deceleration", "the deceleration stops the vehicle before the end")
 
+    def _check_profile(self) -> None:
+        if self.speed_profile is not None:
+            if self.deceleration_m_per_s2 != 0.0:
+                _fail("speed_profile", "cannot be combined with a deceleration (give one)")
+            try:
+                self.speed_profile.check_covers(self.distance_m)
+            except SpeedProfileError as exc:
+                _fail("speed_profile", str(exc))
+        if self.traction is not None and (
+            self.speed_profile is not None or self.deceleration_m_per_s2 != 0.0
+        ):
+            _fail("traction", "frees the forward motion: it cannot be combined with a "
+                  "prescribed speed profile or deceleration")  # fmt: skip
+
+    @property
+    def free_motion(self) -> bool:
+        """The forward motion is free (traction and braking decide it), not prescribed."""
+        return self.traction is not None
+
+    @property
+    def speed_varies(self) -> bool:
+        """The forward speed changes during the run (a profile, a ramp, free motion)."""
+        return self.free_motion or self.deceleration_m_per_s2 != 0.0 or (
+            self.speed_profile is not None and len(self.speed_profile.points) > 1
+        )  # fmt: skip
+
+    @property
+    def motion(self) -> SpeedProfile:
+        """The prescribed forward motion (for free motion: the start speed, held; the achieved
+        motion comes from the simulation)."""
+        if self.speed_profile is not None:
+            return self.speed_profile
+        if self.deceleration_m_per_s2 != 0.0:
+            return SpeedProfile.ramp(
+                self.speed_m_per_s, -self.deceleration_m_per_s2, self.distance_m
+            )
+        return SpeedProfile.constant(self.speed_m_per_s)
+
+    @property
+    def max_speed_m_per_s(self) -> float:
+        """Highest prescribed speed (the start speed for free motion) [m/s]."""
+        if self.speed_profile is not None:
+            return self.speed_profile.max_speed_m_per_s
+        return self.speed_m_per_s
+
     @property
     def duration_s(self) -> float:
+        """Duration of the run [s]; for free motion its time limit."""
+        if self.traction is not None:
+            limit = self.traction.time_limit_s
+            return limit if limit is not None else 3.0 * self.distance_m / self.speed_m_per_s
+        if self.speed_profile is not None:
+            return self.speed_profile.time_at_distance(self.distance_m)
         a = self.deceleration_m_per_s2
         if a == 0.0:
             return self.distance_m / self.speed_m_per_s
@@ -160,12 +229,28 @@ class RunSettings:
         return (self.speed_m_per_s - v_end) / a
 
     def speed_at(self, t: float) -> float:
-        """Forward speed at time ``t`` [m/s]."""
+        """Prescribed forward speed at time ``t`` [m/s] (free motion: the start speed)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.speed_at(t)
+        if self.traction is not None:
+            return self.speed_m_per_s
         return self.speed_m_per_s - self.deceleration_m_per_s2 * t
 
     def distance_at(self, t: float) -> float:
-        """Distance run at time ``t`` [m]."""
+        """Prescribed distance run at time ``t`` [m] (free motion: at the start speed)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.distance_at(t)
+        if self.traction is not None:
+            return self.speed_m_per_s * t
         return self.speed_m_per_s * t - 0.5 * self.deceleration_m_per_s2 * t * t
+
+    def acceleration_at(self, t: float) -> float:
+        """Prescribed forward acceleration at time ``t`` [m/s^2] (free motion: 0)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.acceleration_at(t)
+        if self.traction is not None:
+            return 0.0
+        return -self.deceleration_m_per_s2
 
     @property
     def output_every(self) -> int:
@@ -233,9 +318,109 @@ def run_settings_from_dict(
         evaluate_to_m=values["evaluate_to"],
         contact_outputs=values["contact_outputs"],
     )
+    if "speed_profile" in data:
+        if "speed" in data:
+            sec.fail("give either speed or speed_profile (whose first point is the start "
+                     "speed)", key="speed")  # fmt: skip
+        kwargs["speed_profile"] = read_speed_profile(sec)
+    if "traction" in data:
+        kwargs["traction"] = read_traction(sec)
     try:
         return RunSettings(**kwargs)
     except RunSettingsError as exc:
         key = exc.field if exc.field in RUN_KEYS else None
         sec.fail(str(exc).removeprefix(f"run settings: {exc.field} "), key=key)
+        raise  # unreachable
+
+
+def _pairs(sec: Section, key: str, units: tuple[str, str], names: tuple[str, str]) -> list:
+    """A table ``[[x, y], ...]`` (or ``[{names[0]: x, names[1]: y}, ...]``) in SI; a unit of
+    ``units[0]`` may be a tuple of choices (the first that fits is the table's basis).
+    Returns ``[(x, y), ...]`` and the unit of the first column."""
+    raw = sec.data[key]
+    if not isinstance(raw, list) or not raw:
+        sec.fail(f"expected a list of [{names[0]}, {names[1]}] pairs, e.g. "
+                 f"[[0 {units[0][0]}, 10 {units[1]}], [100 {units[0][0]}, 20 {units[1]}]]",
+                 key=key)  # fmt: skip
+    where = Section({i: None for i in range(len(raw))}, sec.source, sec.lines, (*sec.path, key))
+    out = []
+    x_unit = None
+    for i, item in enumerate(raw):
+        if isinstance(item, dict):
+            Section(item, sec.source, sec.lines, (*sec.path, key, i), names)
+            item = [item.get(names[0]), item.get(names[1])]
+        if not isinstance(item, list) or len(item) != 2:
+            where.fail(f"expected a pair [{names[0]}, {names[1]}], got {item!r}", key=i)
+        choices = (x_unit,) if x_unit else units[0]
+        x = None
+        for unit in choices:
+            try:
+                x = to_si(item[0], unit)
+                x_unit = unit
+                break
+            except UnitError as exc:
+                problem = str(exc)
+        if x is None:
+            where.fail(f"{names[0]}: {problem}", key=i)
+        try:
+            y = to_si(item[1], units[1])
+        except UnitError as exc:
+            where.fail(f"{names[1]}: {exc}", key=i)
+        out.append((x, y))
+    return out, x_unit
+
+
+def read_speed_profile(sec: Section, key: str = "speed_profile") -> SpeedProfile:
+    """The ``speed_profile`` of a run-settings mapping: ``[[0 m, 10 m/s], [200 m, 20 m/s]]``
+    or ``[{distance: 0 m, speed: 10 m/s}, ...]``; constant acceleration between the points.
+
+    Raises:
+        InputError: naming the key (and the point) at fault.
+    """
+    pairs, _ = _pairs(sec, key, (("m",), "m/s"), ("distance", "speed"))
+    try:
+        return SpeedProfile(tuple(pairs))
+    except SpeedProfileError as exc:
+        sec.fail(str(exc), key=key)
+        raise  # unreachable
+
+
+def _schedule(sec: Section, key: str, unit: str) -> Schedule:
+    """A constant (``20 kN m``) or a table over time or distance (``[[0 s, 0 N m], [5 s,
+    20 kN m]]``: the first column's unit, s or m, says which)."""
+    raw = sec.data[key]
+    if not isinstance(raw, list):
+        return Schedule.constant(sec.quantity(key, unit))
+    pairs, x_unit = _pairs(sec, key, (("s", "m"), unit), ("time or distance", "value"))
+    basis = next(b for b, u in BASES.items() if u == x_unit)
+    try:
+        return Schedule(tuple(pairs), basis)
+    except TractionError as exc:
+        sec.fail(str(exc), key=key)
+        raise  # unreachable
+
+
+def read_traction(sec: Section, key: str = "traction") -> Traction:
+    """The ``traction`` section of a run-settings mapping (docs/traction-and-braking.md)::
+
+        traction: {torque: 20 kN m, wheelsets: [ws1, ws2], brake_force: 0 N, time_limit: 20 s}
+
+    Raises:
+        InputError: naming the key at fault.
+    """
+    sub = sec.section(key, TRACTION_KEYS)
+    kwargs = {}
+    if "torque" in sub.data:
+        kwargs["torque_N_m"] = _schedule(sub, "torque", "N m")
+    if "brake_force" in sub.data:
+        kwargs["brake_force_N"] = _schedule(sub, "brake_force", "N")
+    if "wheelsets" in sub.data:
+        kwargs["wheelsets"] = sub.string_list("wheelsets")
+    if "time_limit" in sub.data:
+        kwargs["time_limit_s"] = sub.quantity("time_limit", "s", positive=True)
+    try:
+        return Traction(**kwargs)
+    except TractionError as exc:
+        field, _, message = str(exc).partition(": ")
+        sub.fail(message, key=field if field in TRACTION_KEYS else None)
         raise  # unreachable
