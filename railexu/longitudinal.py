@@ -51,7 +51,9 @@ class LongitudinalColumns:
             [[[col[f"ws{i}_{s}_{f}"] for f in WHEEL_FIELDS] for s in SIDES]
              for i in range(1, n + 1)]
         )  # fmt: skip
-        self.c_ws = np.array([[col[f"ws{i}_{f}"] for f in WHEELSET_FIELDS] for i in range(1, n + 1)])
+        self.c_ws = np.array(
+            [[col[f"ws{i}_{f}"] for f in WHEELSET_FIELDS] for i in range(1, n + 1)]
+        )
         self.c_motion = np.array([col[c] for c in MOTION_COLUMNS])
         ltg = [model.ltg[names[k]] for k in self.order]
         self.i_spin = np.array([g[5] for g in ltg])
