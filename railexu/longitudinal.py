@@ -97,7 +97,7 @@ def longitudinal_summary(ts: TimeSeries, model: VehicleModel) -> dict:
     speed = cols.get("achieved_speed_m_per_s")
     out = {
         "max_acceleration_m_per_s2": float(np.max(acc)) if acc.size else None,
-        "max_deceleration_m_per_s2": float(-np.min(acc)) if acc.size else None,
+        "max_deceleration_m_per_s2": float(max(-np.min(acc), 0.0)) if acc.size else None,
         "max_abs_creepage": float(max(np.max(np.abs(v)) for v in creep)) if creep else None,
         "max_adhesion_ratio": float(max(np.max(r) for r in ratios)) if ratios else None,
         "final_speed_m_per_s": float(speed[-1]) if speed is not None and len(speed) else None,

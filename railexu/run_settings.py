@@ -65,12 +65,26 @@ RUN_SCHEMA = Schema(
         Field("contact_outputs", "record every contact point (position, angle, creepages, "
               "forces, semi-axes, T-gamma) in the time series: larger files", "boolean",
               default=False),
+        Field("traction_torque", "traction torque on each driven wheelset, constant or a table "
+              "[[time or distance, torque], ...]; frees the forward motion "
+              "(docs/traction-and-braking.md)", unit="N m", default=OPTIONAL),
+        Field("brake_force", "tread-brake force on each wheel (a torque force x radius against "
+              "the spin), constant or a table like traction_torque; frees the forward motion",
+              unit="N", default=OPTIONAL, minimum=0.0),
+        Field("driven_wheelsets", "the wheelsets traction_torque drives (default: all)",
+              "text_list", default=()),
+        Field("time_limit", "free motion: the run ends at its distance or at this time (default: "
+              "3 x distance / speed)", unit="s", default=OPTIONAL, positive=True),
     ),
-    "Settings of one run (`base.run` of a study; `railexu run` options).",
-    extra_keys=("speed_profile", "traction"),  # tables: read by run_settings_from_dict
+    "Settings of one run (`base.run` of a study; `railexu run` options). The speed is "
+    "constant, or follows `speed_profile` (below), or is free with `traction_torque` or "
+    "`brake_force`.",
+    extra_keys=("speed_profile",),  # a table: read by read_speed_profile
 )  # fmt: skip
-#: Keys of a ``traction`` section (docs/traction-and-braking.md).
-TRACTION_KEYS = ("torque", "wheelsets", "brake_force", "time_limit")
+#: Keys of the traction and braking demands (free forward motion, docs/traction-and-braking.md).
+TRACTION_KEYS = ("traction_torque", "brake_force", "driven_wheelsets", "time_limit")
+#: Keys that may hold a table (read by run_settings_from_dict itself).
+_TABLE_KEYS = ("traction_torque", "brake_force")
 
 #: The keys of a run-settings mapping (study ``run.*`` parameters).
 RUN_KEYS = RUN_SCHEMA.keys()
@@ -180,8 +194,8 @@ class RunSettings:
         if self.traction is not None and (
             self.speed_profile is not None or self.deceleration_m_per_s2 != 0.0
         ):
-            _fail("traction", "frees the forward motion: it cannot be combined with a "
-                  "prescribed speed profile or deceleration")  # fmt: skip
+            _fail("speed_profile", "cannot be combined with traction_torque or brake_force, "
+                  "which free the forward motion (nor with a deceleration)")  # fmt: skip
 
     @property
     def free_motion(self) -> bool:
@@ -304,7 +318,7 @@ def run_settings_from_dict(
         InputError: unknown keys, wrong units, invalid values (naming source, line and key).
     """
     sec = Section(data, source, lines, path, RUN_KEYS)
-    values = RUN_SCHEMA.read_all(sec)
+    values = RUN_SCHEMA.read_all(sec, [k for k in RUN_SCHEMA.by_key if k not in _TABLE_KEYS])
     kwargs = dict(
         speed_m_per_s=values["speed"],
         distance_m=values["distance"],
@@ -323,8 +337,12 @@ def run_settings_from_dict(
             sec.fail("give either speed or speed_profile (whose first point is the start "
                      "speed)", key="speed")  # fmt: skip
         kwargs["speed_profile"] = read_speed_profile(sec)
-    if "traction" in data:
-        kwargs["traction"] = read_traction(sec)
+    if any(k in data for k in _TABLE_KEYS):
+        kwargs["traction"] = read_traction(sec, values)
+    else:
+        for key in ("driven_wheelsets", "time_limit"):
+            if key in data:
+                sec.fail("only used with traction_torque or brake_force (free motion)", key=key)
     try:
         return RunSettings(**kwargs)
     except RunSettingsError as exc:
@@ -400,27 +418,71 @@ def _schedule(sec: Section, key: str, unit: str) -> Schedule:
         raise  # unreachable
 
 
-def read_traction(sec: Section, key: str = "traction") -> Traction:
-    """The ``traction`` section of a run-settings mapping (docs/traction-and-braking.md)::
+def read_traction(sec: Section, values: dict) -> Traction:
+    """The traction and braking demands of a run-settings mapping (free forward motion,
+    docs/traction-and-braking.md)::
 
-        traction: {torque: 20 kN m, wheelsets: [ws1, ws2], brake_force: 0 N, time_limit: 20 s}
+        {traction_torque: 20 kN m, driven_wheelsets: [ws1, ws2], brake_force: 0 N}
+
+    ``values``: the other keys, read.
 
     Raises:
         InputError: naming the key at fault.
     """
-    sub = sec.section(key, TRACTION_KEYS)
-    kwargs = {}
-    if "torque" in sub.data:
-        kwargs["torque_N_m"] = _schedule(sub, "torque", "N m")
-    if "brake_force" in sub.data:
-        kwargs["brake_force_N"] = _schedule(sub, "brake_force", "N")
-    if "wheelsets" in sub.data:
-        kwargs["wheelsets"] = sub.string_list("wheelsets")
-    if "time_limit" in sub.data:
-        kwargs["time_limit_s"] = sub.quantity("time_limit", "s", positive=True)
+    kwargs = {
+        "wheelsets": values["driven_wheelsets"],
+        "time_limit_s": values["time_limit"],
+    }
+    for key, name, unit in (("traction_torque", "torque_N_m", "N m"),
+                            ("brake_force", "brake_force_N", "N")):  # fmt: skip
+        if key in sec.data:
+            kwargs[name] = _schedule(sec, key, unit)
     try:
         return Traction(**kwargs)
     except TractionError as exc:
         field, _, message = str(exc).partition(": ")
-        sub.fail(message, key=field if field in TRACTION_KEYS else None)
+        sec.fail(message, key=field if field in TRACTION_KEYS else None)
         raise  # unreachable
+
+
+def speed_profile_from_csv(path) -> SpeedProfile:
+    """A speed profile from a CSV file of ``distance, speed`` rows (``railexu run
+    --speed-profile``): bare numbers are SI (m, m/s), a cell may carry its unit (``0.5 km``,
+    ``72 km/h``); a first row that is not a number (a header) and lines starting with ``#`` are
+    skipped.
+
+    Raises:
+        InputError: naming the file and line of a bad row, or what is wrong with the profile.
+    """
+    from pathlib import Path
+
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read the speed profile: {exc.strerror}", source=source) from None
+    points = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        cells = [c.strip() for c in line.split(",")]
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        if len(cells) != 2:
+            raise InputError(f"expected two columns, distance and speed, got {line!r}",
+                             source=source, line=number)  # fmt: skip
+        try:
+            points.append((to_si(cells[0], "m"), to_si(cells[1], "m/s")))
+        except UnitError as exc:
+            if not points and number == _first_content_line(text):
+                continue  # a header
+            raise InputError(str(exc), source=source, line=number) from None
+    try:
+        return SpeedProfile(tuple(points))
+    except SpeedProfileError as exc:
+        raise InputError(str(exc), source=source, key="speed_profile") from None
+
+
+def _first_content_line(text: str) -> int:
+    for number, line in enumerate(text.splitlines(), start=1):
+        if line.strip() and not line.lstrip().startswith("#"):
+            return number
+    return 0

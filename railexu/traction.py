@@ -99,8 +99,8 @@ class Traction:
         lo, hi = self.torque_N_m.extremes()
         if max(abs(lo), abs(hi)) > MAX_TORQUE_N_M:
             raise TractionError(
-                f"torque: {max(abs(lo), abs(hi)):.3g} N m is more than {MAX_TORQUE_N_M:.3g} N m "
-                "per wheelset: is a unit wrong?"
+                f"traction_torque: {max(abs(lo), abs(hi)):.3g} N m is more than "
+                f"{MAX_TORQUE_N_M:.3g} N m per wheelset: is a unit wrong?"
             )
         lo, hi = self.brake_force_N.extremes()
         if lo < 0.0:
@@ -123,7 +123,7 @@ class Traction:
         for name in self.wheelsets:
             if name not in names:
                 raise TractionError(
-                    f"wheelsets: unknown wheelset {name!r}.{did_you_mean(name, names)} The "
+                    f"driven_wheelsets: unknown wheelset {name!r}.{did_you_mean(name, names)} The "
                     f"vehicle's wheelsets: {', '.join(names)}"
                 )
         return list(self.wheelsets) or list(names)

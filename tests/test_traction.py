@@ -189,48 +189,52 @@ def test_free_run_ends_at_its_distance():
 # -- input ---------------------------------------------------------------------------------------
 def test_traction_from_a_mapping():
     s = run_settings_from_dict(
-        {"speed": "36 km/h", "traction": {"torque": [["0 s", "0 N m"], ["5 s", "20 kN m"]],
-                                          "wheelsets": ["ws1"], "brake_force": "1 kN"}}
+        {"speed": "36 km/h", "traction_torque": [["0 s", "0 N m"], ["5 s", "20 kN m"]],
+         "driven_wheelsets": ["ws1"], "brake_force": "1 kN", "time_limit": "1 min"}
     )  # fmt: skip
     assert s.free_motion and s.speed_varies
     assert s.traction.torque_N_m.value(2.5, 0.0) == pytest.approx(10.0e3)
     assert s.traction.brake_force_N.value(0.0, 0.0) == 1.0e3
+    assert s.traction.wheelsets == ("ws1",) and s.duration_s == 60.0
     by_distance = run_settings_from_dict(
-        {"traction": {"torque": [["0 m", "0 N m"], ["100 m", "1 kN m"]]}}
+        {"traction_torque": [["0 m", "0 N m"], ["100 m", "1 kN m"]]}
     )
     assert by_distance.traction.torque_N_m.basis == "distance"
     assert by_distance.traction.torque_N_m.value(0.0, 50.0) == pytest.approx(500.0)
 
 
 @pytest.mark.parametrize(
-    "traction, words",
+    "data, words",
     [
-        ({"torque": "3 N"}, ["traction.torque", "N m"]),
-        ({"torqe": "3 N m"}, ["traction.torqe", "Did you mean 'torque'"]),
-        ({"brake_force": "-1 kN"}, ["traction.brake_force", ">= 0"]),
-        ({"torque": "5 MN m"}, ["traction.torque", "unit"]),
-        ({"torque": [["2 s", "0 N m"], ["1 s", "1 N m"]]}, ["traction.torque", "increase"]),
+        ({"traction_torque": "3 N"}, ["traction_torque", "N m"]),
+        ({"traction_torqe": "3 N m"}, ["traction_torqe", "Did you mean 'traction_torque'"]),
+        ({"brake_force": "-1 kN"}, ["brake_force", ">= 0"]),
+        ({"brake_force": [["0 s", "0 N"], ["1 s", "-1 N"]]}, ["brake_force", ">= 0"]),
+        ({"traction_torque": "5 MN m"}, ["traction_torque", "unit"]),
+        ({"traction_torque": [["2 s", "0 N m"], ["1 s", "1 N m"]]},
+         ["traction_torque", "increase"]),
+        ({"traction_torque": [["0 kg", "0 N m"]]}, ["traction_torque.0", "s"]),
+        ({"time_limit": "3 s"}, ["time_limit", "only used with"]),
     ],
-)
-def test_bad_traction_is_refused_with_its_key(traction, words):
+)  # fmt: skip
+def test_bad_traction_is_refused_with_its_key(data, words):
     with pytest.raises(InputError) as info:
-        run_settings_from_dict({"traction": traction}, "study.yaml")
+        run_settings_from_dict(data, "study.yaml")
+    text = str(info.value)
+    assert text.startswith("study.yaml")
     for w in words:
-        assert w in str(info.value)
+        assert w in text
 
 
 def test_traction_excludes_a_prescribed_speed():
     with pytest.raises(InputError, match="traction"):
         run_settings_from_dict(
-            {
-                "traction": {"torque": "1 kN m"},
-                "speed_profile": [["0 m", "10 m/s"], ["1 km", "10 m/s"]],
-            }
+            {"traction_torque": "1 kN m", "speed_profile": [["0 m", "10 m/s"], ["1 km", "10 m/s"]]}
         )
 
 
 def test_unknown_driven_wheelset_is_refused():
-    with pytest.raises(InputError, match="wheelsets: unknown wheelset 'ws9'"):
+    with pytest.raises(InputError, match="driven_wheelsets: unknown wheelset 'ws9'"):
         simulate(_wheelset(), None, RunSettings(distance_m=1.0, traction=Traction(
             wheelsets=("ws9",))))  # fmt: skip
 
