@@ -188,3 +188,41 @@ def test_traction_force_is_mass_times_acceleration(eu07_accelerating):
     fx = sum(np.asarray(ts[c]) for c in ts.columns if c.endswith("_Fx_N") and c.count("_") == 3)
     # the wheelsets swing with the bogies: their mean (2 %, as above)
     assert np.mean(fx[late]) == pytest.approx(-spin * 1.0, rel=0.02)
+
+
+# -- command line --------------------------------------------------------------------------------
+def test_cli_speed_profile_and_traction(tmp_path, capsys):
+    import json
+
+    from railexu.cli import main
+    from railexu.results import TimeSeries
+
+    csv = tmp_path / "profile.csv"
+    csv.write_text("distance,speed\n0 m, 36 km/h\n10, 12\n20 m, 12 m/s\n")
+    out = tmp_path / "profile"
+    args = ["run", "wheelset", "--distance", "20", "--initial-lateral", "0", "--quiet",
+            "--no-plots"]  # fmt: skip
+    assert main([*args, "--speed-profile", str(csv), "--out", str(out)]) == 0
+    ts = TimeSeries.from_csv(out / "timeseries.csv")
+    a = (12.0**2 - 10.0**2) / (2.0 * 10.0)
+    t1 = 2.0 / a
+    assert ts["speed_m_per_s"][-1] == pytest.approx(12.0)
+    assert ts["time_s"][-1] == pytest.approx(t1 + 10.0 / 12.0, abs=0.002)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["longitudinal"]["max_acceleration_m_per_s2"] == pytest.approx(a, rel=1e-3)
+    assert summary["settings"]["speed_profile"]["points"][1] == [10.0, 12.0]
+
+    out = tmp_path / "free"
+    assert main([*args, "--traction-torque", "5 kN m", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["longitudinal"]["free_motion"] is True
+    assert summary["settings"]["traction"]["torque_N_m"]["points"] == [[0.0, 5000.0]]
+    capsys.readouterr()
+    # a profile with --speed, or a bad file, is refused naming the problem
+    assert main([*args, "--speed-profile", str(csv), "--speed", "3", "--out",
+                 str(tmp_path / "x")]) != 0  # fmt: skip
+    assert "--speed-profile" in capsys.readouterr().err
+    csv.write_text("0 m, 10 m/s\n100 m, 3 kg\n")
+    assert main([*args, "--speed-profile", str(csv), "--out", str(tmp_path / "y")]) != 0
+    err = capsys.readouterr().err
+    assert "profile.csv" in err and ":2" in err
