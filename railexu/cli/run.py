@@ -27,8 +27,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument(
         "--speed",
         type=quantity("m/s"),
-        help="forward speed [m/s] (default 10 m/s; the start "
-        "speed with --traction-torque or --brake-force)",
+        default=_DefaultSpeed(10.0),
+        help="forward speed [m/s] (the start speed with --traction-torque or --brake-force)",
     )
     p.add_argument(
         "--speed-profile",
@@ -107,6 +107,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
+class _DefaultSpeed(float):
+    """The default of ``--speed``: a float that tells it was not given."""
+
+
 def _longitudinal_options(args: argparse.Namespace) -> dict:
     """``RunSettings`` keywords of the speed options: a constant speed, a profile, or free motion
     with traction and braking."""
@@ -115,11 +119,11 @@ def _longitudinal_options(args: argparse.Namespace) -> dict:
 
     free = args.traction_torque is not None or args.brake_force is not None
     if args.speed_profile is not None:
-        if args.speed is not None or free:
+        if not isinstance(args.speed, _DefaultSpeed) or free:
             raise CliError("--speed-profile: give no --speed (the profile's first point is the "
                            "start speed), nor traction or braking")  # fmt: skip
         return {"speed_profile": speed_profile_from_csv(args.speed_profile)}
-    out = {"speed_m_per_s": 10.0 if args.speed is None else args.speed}
+    out = {"speed_m_per_s": float(args.speed)}
     if not free:
         if args.driven or args.time_limit is not None:
             raise CliError("--driven and --time-limit need --traction-torque or --brake-force")
