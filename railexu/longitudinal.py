@@ -55,6 +55,8 @@ class LongitudinalColumns:
             [[col[f"ws{i}_{f}"] for f in WHEELSET_FIELDS] for i in range(1, n + 1)]
         )
         self.c_motion = np.array([col[c] for c in MOTION_COLUMNS])
+        self.c_xi = self.c_wheel[..., 0].copy()
+        self.c_fx = self.c_wheel[..., 1].copy()
         ltg = [model.ltg[names[k]] for k in self.order]
         self.i_spin = np.array([g[5] for g in ltg])
         self.i_roll = np.array([g[3] for g in ltg])
@@ -67,19 +69,23 @@ class LongitudinalColumns:
 
     def fill(self, row: np.ndarray, q, qt, qtt, points: np.ndarray) -> None:
         """Write the columns into ``row`` from the state and the contact points (wheelsets from
-        the front, ``(n_ws, 2, MAX_POINTS, fields)``)."""
-        normal = np.where(points[..., K.PF_N] > 0.0, points[..., K.PF_N], 0.0)
+        the front, ``(n_ws, 2, MAX_POINTS, fields)``; the kernel zeroes the candidate points that
+        carry no load, and its normal forces are >= 0)."""
+        normal = points[..., K.PF_N]
         total = normal.sum(axis=2)
-        xi = (normal * points[..., K.PF_XI]).sum(axis=2) / np.where(total > 0.0, total, 1.0)
-        row[self.c_wheel[:, :, 0]] = xi
-        row[self.c_wheel[:, :, 1]] = np.where(normal > 0.0, points[..., K.PF_FX], 0.0).sum(axis=2)
+        total[total == 0.0] = 1.0
+        row[self.c_xi] = (normal * points[..., K.PF_XI]).sum(axis=2) / total
+        row[self.c_fx] = points[..., K.PF_FX].sum(axis=2)
         # the angular velocity about the axle, omega . e_axle = theta2' + sin(theta1) theta0'
-        theta1 = self.yaw_ref + q[self.i_yaw]
-        row[self.c_ws[:, 0]] = qt[self.i_spin] + np.sin(theta1) * qt[self.i_roll]
+        row[self.c_ws[:, 0]] = (
+            qt[self.i_spin] + np.sin(self.yaw_ref + q[self.i_yaw]) * qt[self.i_roll]
+        )
         torques = getattr(self.model, "axle_torques_N_m", None)
-        row[self.c_ws[:, 1]] = 0.0 if torques is None else torques[self.order]
+        if torques is not None:
+            row[self.c_ws[:, 1]] = torques[self.order]
         row[self.c_motion[0]] = qt[self.i_speed]
-        row[self.c_motion[1]] = 0.0 if qtt is None else qtt[self.i_speed]
+        if qtt is not None:
+            row[self.c_motion[1]] = qtt[self.i_speed]
 
 
 def longitudinal_summary(ts: TimeSeries, model: VehicleModel) -> dict:
