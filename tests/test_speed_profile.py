@@ -226,3 +226,41 @@ def test_cli_speed_profile_and_traction(tmp_path, capsys):
     assert main([*args, "--speed-profile", str(csv), "--out", str(tmp_path / "y")]) != 0
     err = capsys.readouterr().err
     assert "profile.csv" in err and ":2" in err
+
+
+def test_profile_on_a_curve_moves_the_frame():
+    """Curved track: the vehicle frame runs with the profile (set_time: FR_S, FR_V, FR_VDOT). A
+    two-point profile at a constant speed takes the profile's code path and must reproduce the
+    constant-speed run; an accelerating one moves the frame with its distance, speed and
+    acceleration."""
+    from railexu.forces import FR_S, FR_V, FR_VDOT
+    from railexu.track import load_track
+
+    track = load_track(find_input("track", "curve_r600"))
+    vehicle = load_vehicle(find_input("vehicle", "wheelset"))
+
+    def run(**kw):
+        result = simulate(
+            vehicle, track, RunSettings(distance_m=300.0, initial_lateral_m=0.0, **kw)
+        )
+        assert result.status["state"] == "completed"
+        return result
+
+    constant = run(speed_m_per_s=19.8).timeseries
+    flat = run(speed_profile=SpeedProfile(((0.0, 19.8), (300.0, 19.8)))).timeseries
+    for column in ("ws1_lateral_m", "ws1_left_Y_N", "ws1_right_Q_N", "ws1_yaw_rad"):
+        # the same motion by another code path: the same to rounding (1e-6 of the range)
+        scale = np.max(np.abs(constant[column]))
+        assert np.max(np.abs(np.asarray(flat[column]) - constant[column])) < 1e-6 * scale
+    profile = SpeedProfile(((0.0, 15.0), (300.0, 22.0)))
+    accelerating = run(speed_profile=profile)
+    ts = accelerating.timeseries
+    t = np.asarray(ts["time_s"])
+    assert np.allclose(ts["achieved_speed_m_per_s"], [profile.speed_at(x) for x in t], atol=1e-6)
+    frame, model = accelerating.model.kernel.frame, accelerating.model
+    model.set_time(5.0)
+    assert frame[FR_S] - model.frame_start_m == pytest.approx(profile.distance_at(5.0))
+    assert frame[FR_V] == pytest.approx(profile.speed_at(5.0))
+    assert frame[FR_VDOT] == pytest.approx((22.0**2 - 15.0**2) / 600.0)
+    # the last step ends just beyond the profile's last point: constant speed there
+    assert ts["speed_m_per_s"][-1] == pytest.approx(22.0)
