@@ -1,8 +1,10 @@
 """Longitudinal outputs of a run: creepage and creep force per wheel, wheelset spin and axle
 torque, the achieved speed and acceleration, and their summary (``docs/traction-and-braking.md``).
 
-The recorder of :mod:`railexu.simulation` calls :meth:`LongitudinalColumns.fill` once per output
-row with the state and the kernel's contact points; :func:`longitudinal_summary` gives the
+The recorder of :mod:`railexu.simulation` keeps the longitudinal state at every output time
+(:meth:`LongitudinalRecord.keep`, with the state and the kernel's contact points) and adds
+:meth:`LongitudinalRecord.columns` to the time series after the run (in a free run they include
+the achieved ``distance_m`` and ``speed_m_per_s``); :func:`longitudinal_summary` gives the
 ``longitudinal`` entry of ``summary.json``.
 """
 
@@ -33,30 +35,23 @@ def longitudinal_columns(n_wheelsets: int) -> list[str]:
     return out + list(MOTION_COLUMNS)
 
 
-class LongitudinalColumns:
-    """Fills the :func:`longitudinal_columns` of one output row.
+class LongitudinalRecord:
+    """Keeps the longitudinal state of a run at its output times and makes its columns.
+
+    The recorder calls :meth:`keep` at every output time (with the state and the kernel's
+    contact points of the wheelsets from the front) and adds :meth:`columns` to the time series
+    after the run.
 
     Args:
         model: the vehicle model.
         order: wheelset indices from the front.
-        col: column name -> index of the recorder's rows.
+        n_out: the number of output times to make room for.
     """
 
-    def __init__(self, model: VehicleModel, order, col: dict[str, int]) -> None:
+    def __init__(self, model: VehicleModel, order, n_out: int) -> None:
         self.model = model
         self.order = np.asarray(order, dtype=int)
-        n = self.order.size
         names = model.wheelset_names()
-        self.c_wheel = np.array(
-            [[[col[f"ws{i}_{s}_{f}"] for f in WHEEL_FIELDS] for s in SIDES]
-             for i in range(1, n + 1)]
-        )  # fmt: skip
-        self.c_ws = np.array(
-            [[col[f"ws{i}_{f}"] for f in WHEELSET_FIELDS] for i in range(1, n + 1)]
-        )
-        self.c_motion = np.array([col[c] for c in MOTION_COLUMNS])
-        self.c_xi = self.c_wheel[..., 0].copy()
-        self.c_fx = self.c_wheel[..., 1].copy()
         ltg = [model.ltg[names[k]] for k in self.order]
         self.i_spin = np.array([g[5] for g in ltg])
         self.i_roll = np.array([g[3] for g in ltg])
@@ -66,26 +61,51 @@ class LongitudinalColumns:
              for k in self.order]
         )  # fmt: skip
         self.i_speed = model.ltg[model.vehicle.speed_body][0]
+        self.x_speed = float(
+            model.mbs.GetNodeParameter(
+                model.node[model.vehicle.speed_body], "referenceCoordinates"
+            )[0]
+        )
+        n_ws = self.order.size
+        self.wheel = np.zeros((n_out, n_ws, 2, len(WHEEL_FIELDS)))
+        self.wheelset = np.zeros((n_out, n_ws, len(WHEELSET_FIELDS)))
+        self.motion = np.zeros((n_out, 3))  # distance, speed, acceleration of the speed body
 
-    def fill(self, row: np.ndarray, q, qt, qtt, points: np.ndarray) -> None:
-        """Write the columns into ``row`` from the state and the contact points (wheelsets from
-        the front, ``(n_ws, 2, MAX_POINTS, fields)``; the kernel zeroes the candidate points that
-        carry no load, and its normal forces are >= 0)."""
+    def keep(self, k: int, q, qt, qtt, points: np.ndarray) -> None:
+        """Keep output ``k``: the state and the contact points ``(n_ws, 2, MAX_POINTS,
+        fields)`` (wheelsets from the front; the kernel zeroes the candidate points that carry
+        no load, and its normal forces are >= 0)."""
         normal = points[..., K.PF_N]
         total = normal.sum(axis=2)
         total[total == 0.0] = 1.0
-        row[self.c_xi] = (normal * points[..., K.PF_XI]).sum(axis=2) / total
-        row[self.c_fx] = points[..., K.PF_FX].sum(axis=2)
+        wheel = self.wheel[k]
+        wheel[..., 0] = (normal * points[..., K.PF_XI]).sum(axis=2) / total
+        wheel[..., 1] = points[..., K.PF_FX].sum(axis=2)
         # the angular velocity about the axle, omega . e_axle = theta2' + sin(theta1) theta0'
-        row[self.c_ws[:, 0]] = (
-            qt[self.i_spin] + np.sin(self.yaw_ref + q[self.i_yaw]) * qt[self.i_roll]
-        )
+        spin = qt[self.i_spin] + np.sin(self.yaw_ref + q[self.i_yaw]) * qt[self.i_roll]
+        self.wheelset[k, :, 0] = spin
         torques = getattr(self.model, "axle_torques_N_m", None)
         if torques is not None:
-            row[self.c_ws[:, 1]] = torques[self.order]
-        row[self.c_motion[0]] = qt[self.i_speed]
-        if qtt is not None:
-            row[self.c_motion[1]] = qtt[self.i_speed]
+            self.wheelset[k, :, 1] = torques[self.order]
+        i = self.i_speed
+        self.motion[k] = (q[i], qt[i], 0.0 if qtt is None else qtt[i])
+
+    def columns(self, n: int) -> dict[str, np.ndarray]:
+        """The :func:`longitudinal_columns` of the first ``n`` outputs; for a free run also
+        ``distance_m`` and ``speed_m_per_s``, the achieved ones (they replace the prescribed)."""
+        out: dict[str, np.ndarray] = {}
+        for i in range(self.order.size):
+            for s, side in enumerate(SIDES):
+                for f, field in enumerate(WHEEL_FIELDS):
+                    out[f"ws{i + 1}_{side}_{field}"] = self.wheel[:n, i, s, f].copy()
+            for f, field in enumerate(WHEELSET_FIELDS):
+                out[f"ws{i + 1}_{field}"] = self.wheelset[:n, i, f].copy()
+        out[MOTION_COLUMNS[0]] = self.motion[:n, 1].copy()
+        out[MOTION_COLUMNS[1]] = self.motion[:n, 2].copy()
+        if self.model.traction is not None:
+            out["distance_m"] = self.x_speed + self.motion[:n, 0] - self.model.frame_start_m
+            out["speed_m_per_s"] = self.motion[:n, 1].copy()
+        return out
 
 
 def longitudinal_summary(ts: TimeSeries, model: VehicleModel) -> dict:

@@ -28,7 +28,7 @@ import numpy as np
 from .contact import kernel as K
 from .curving import track_columns
 from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_VERTICAL, WL_YAW, track_position
-from .longitudinal import LongitudinalColumns, longitudinal_columns, longitudinal_summary
+from .longitudinal import LongitudinalRecord, longitudinal_summary
 from .model import VehicleModel
 from .preflight import check_initial_offset
 from .run_settings import RunSettings as RunSettings
@@ -200,7 +200,6 @@ class _Recorder:
         columns += [
             f"{p.name}_acc_{k}_m_per_s2" for p in vehicle.measurement_points for k in ("y", "z")
         ]
-        columns += longitudinal_columns(len(names))
         if settings.contact_outputs:
             columns += [
                 f"ws{i}_{side}_p{k}_{field}"
@@ -222,7 +221,7 @@ class _Recorder:
         )  # fmt: skip
         self.c_body = np.array([col[f"{n}_lateral_m"] for n in self.body_names], dtype=int)
         self.c_speed = col.get("speed_m_per_s")
-        self.longitudinal = LongitudinalColumns(model, order, col)
+        self.longitudinal = LongitudinalRecord(model, order, n_out)
         n_ws = len(names)
         self.c_s = np.array([col[f"ws{i}_s_m"] for i in range(1, n_ws + 1)])
         self.c_tgamma = np.array(
@@ -310,9 +309,9 @@ class _Recorder:
         self.model.evaluate(q, qt, t, self.out, self.points, self.ws_force)
         row = self.data[k]
         row[0] = t
-        row[1] = self.model.distance_at(t)
+        row[1] = self.settings.distance_at(t)
         if self.c_speed is not None:
-            row[self.c_speed] = self.model.speed_at(t)
+            row[self.c_speed] = self.settings.speed_at(t)
         if self.curved:
             loc = self.model.kernel.ws_local[self.order]
             s_ws = loc[:, WL_S]
@@ -342,7 +341,7 @@ class _Recorder:
         power = pts[:, :, :, K.PF_FX] * pts[:, :, :, K.PF_XI]
         power += pts[:, :, :, K.PF_FY] * pts[:, :, :, K.PF_ETA]
         row[self.c_tgamma] = np.abs(np.where(loaded, power, 0.0)).sum(axis=2)
-        self.longitudinal.fill(row, q, qt, qtt, pts)
+        self.longitudinal.keep(k, q, qt, qtt, pts)
         if self.c_body.size:
             row[self.c_body] = self._body_lateral(q)
         if self.rail_columns:
@@ -404,6 +403,7 @@ class _Recorder:
 
     def timeseries(self) -> TimeSeries:
         columns = {c: self.data[: self.n, j].copy() for j, c in enumerate(self.columns)}
+        columns.update(self.longitudinal.columns(self.n))
         speed = columns.get("speed_m_per_s")
         if speed is None:
             speed = np.full(self.n, self.speed)
