@@ -13,7 +13,9 @@ Design (measured in ``docs/dev/exudyn-api.md``):
   (:func:`railexu.forces.generalized_forces`); Exudyn differentiates it numerically for the
   Jacobian, creep damping included;
 - a velocity-level coordinate constraint holds the forward speed of one body (the car body by
-  default): the traction needed to run at constant speed;
+  default): the traction needed to run at constant speed or to follow a speed profile; with
+  traction and braking demands instead (:class:`railexu.traction.Traction`) the forward motion is
+  free and torques on the wheelsets drive and brake it (``docs/traction-and-braking.md``);
 - the coordinates are those of a vehicle frame that runs along the track's centre line with
   the speed body and turns with the track's heading (:mod:`railexu.forces`, ``docs/curving.md``):
   the first coordinate of a node is the distance along the track, the others its lateral and
@@ -49,14 +51,22 @@ from .forces import (
     generalized_forces,
     jacobian,
 )
+from .speed_profile import SpeedProfile
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .suspension_forces import kernel_arrays, kernel_elements
 from .track import Track
+from .traction import Traction
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset, linear_part
 
 #: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
 #: default) at t = 0 [m].
 START_MARGIN_M = 1.0
+#: A free run (traction and braking) ends when its speed falls below this [m/s]: the creepages
+#: are normalised by the speed, and a standing vehicle is outside the model.
+MIN_FREE_SPEED_M_PER_S = 0.5
+#: Natural frequency of the vehicle frame's follower of the speed body in a free run on curved
+#: track [rad/s] (1 Hz, critically damped: a lag of a / w^2 = 2.5 cm at 1 m/s^2).
+FRAME_FOLLOW_RAD_PER_S = 2.0 * math.pi
 
 
 def wheelset_geometry(wheelset: Wheelset, track: Track) -> WheelsetGeometry:
@@ -103,6 +113,10 @@ class VehicleModel:
         distance_m: distance the run will cover (sizes the irregularity record) [m].
         deceleration_m_per_s2: constant deceleration of the speed (the frame's motion along the
             track follows it; :class:`railexu.run_settings.RunSettings`).
+        speed_profile: a prescribed speed along the track instead (its start speed is
+            ``speed_m_per_s``).
+        traction: traction and brake demands with the forward motion free (no speed
+            constraint; ``speed_m_per_s`` is the start speed).
     """
 
     def __init__(
@@ -113,6 +127,8 @@ class VehicleModel:
         initial_lateral_m: float = 0.0,
         distance_m: float = 100.0,
         deceleration_m_per_s2: float = 0.0,
+        speed_profile: SpeedProfile | None = None,
+        traction: Traction | None = None,
     ) -> None:
         import exudyn as exu
 
@@ -124,6 +140,8 @@ class VehicleModel:
         self.initial_lateral_m = float(initial_lateral_m)
         self.distance_hint = float(distance_m)
         self.deceleration = float(deceleration_m_per_s2)
+        self.profile = speed_profile
+        self.traction = traction
         self.alignment: Alignment = getattr(track, "alignment", None) or straight_alignment()
         self.curved = not self.alignment.is_straight
         self.contact_params = vehicle.contact
@@ -676,15 +694,34 @@ class VehicleModel:
 
     def set_time(self, t: float) -> None:
         """Move the vehicle frame to time ``t`` (distance, speed and acceleration along the
-        track of the speed body's nominal motion)."""
-        a = self.deceleration
+        track of the speed body's nominal motion; with free motion, of the frame that follows
+        the speed body, :meth:`begin_step`)."""
         frame = self.kernel.frame
-        frame[0] = self.frame_start_m + self.speed * t - 0.5 * a * t * t
-        frame[1] = self.speed - a * t
+        if self.traction is not None:
+            t0, s0, v0, a0 = self._frame_step
+            dt = t - t0
+            frame[0] = s0 + v0 * dt + 0.5 * a0 * dt * dt
+            frame[1] = v0 + a0 * dt
+            frame[2] = a0
+        elif self.profile is not None:
+            frame[0] = self.frame_start_m + self.profile.distance_at(t)
+            frame[1] = self.profile.speed_at(t)
+            frame[2] = self.profile.acceleration_at(t)
+        else:
+            a = self.deceleration
+            frame[0] = self.frame_start_m + self.speed * t - 0.5 * a * t * t
+            frame[1] = self.speed - a * t
 
     def _add_speed_constraint(self) -> None:
         """Constant forward speed of one body: a velocity-level constraint on its first
-        coordinate (distance along the track), whose force is the traction."""
+        coordinate (distance along the track), whose force is the traction; its offset
+        follows a speed profile (:meth:`begin_step`). With traction demands instead, the
+        forward motion is free: no constraint, torques on the wheelsets
+        (:meth:`_add_traction`)."""
+        if self.traction is not None:
+            self.speed_constraint = None
+            self._add_traction()
+            return
         from exudyn.itemInterface import (
             MarkerNodeCoordinate,
             NodePointGround,
@@ -700,6 +737,133 @@ class VehicleModel:
         self.speed_constraint = mbs.AddObject(
             ObjectConnectorCoordinate(markerNumbers=[m0, m1], velocityLevel=True, offset=self.speed)
         )
+
+    def _add_traction(self) -> None:
+        """Free forward motion: a torque about the axle of each wheelset (traction on the driven
+        ones minus the tread brakes' ``force x nominal radius`` on every one), set at the start
+        of every step (:meth:`begin_step`), and its reaction on the body the wheelset is
+        suspended from (the motor and the brake rigging sit there); a wheelset suspended from
+        nothing (a single wheelset) takes the torque from outside the vehicle."""
+        from exudyn.itemInterface import LoadTorqueVector, MarkerBodyRigid
+
+        mbs = self.mbs
+        names = self.wheelset_names()
+        driven = set(self.traction.driven(names))
+        self.traction_loads: list[tuple[int, int | None, bool, float]] = []
+        for ws in self.vehicle.wheelsets:
+            m = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[ws.name]))
+            load = mbs.AddLoad(LoadTorqueVector(markerNumber=m, loadVector=[0.0, 0.0, 0.0],
+                                                bodyFixed=True))  # fmt: skip
+            parent = self._parent_body(ws.name)
+            reaction = None
+            if parent is not None:
+                mp = mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[parent]))
+                reaction = mbs.AddLoad(LoadTorqueVector(markerNumber=mp, bodyFixed=True,
+                                                        loadVector=[0.0, 0.0, 0.0]))  # fmt: skip
+            radius = 0.5 * (ws.nominal_radius_m + (ws.radius_right_m or ws.nominal_radius_m))
+            self.traction_loads.append((load, reaction, ws.name in driven, radius))
+        s0 = self.frame_start_m
+        self._frame_step = (0.0, s0, self.speed, 0.0)
+        self.axle_torques_N_m = np.zeros(len(names))
+        self.stop_reason = ""
+
+    def _parent_body(self, wheelset: str) -> str | None:
+        """The body a wheelset is suspended from (the other body of its first suspension
+        element), or None."""
+        for el in self.vehicle.suspension:
+            if wheelset in el.bodies:
+                other = [b for b in el.bodies if b != wheelset]
+                if other and other[0] not in self.wheelset_names():
+                    return other[0]
+        return None
+
+    def _speed_body_state(self) -> tuple[float, float, float]:
+        """(distance along the track, speed, acceleration) of the speed body's centre now."""
+        i = self.ltg[self.vehicle.speed_body][0]
+        data = self.mbs.systemData
+        x = float(self.mbs.GetNodeParameter(self.node[self.vehicle.speed_body],
+                                            "referenceCoordinates")[0])  # fmt: skip
+        return (
+            x + float(data.GetODE2Coordinates()[i]),
+            float(data.GetODE2Coordinates_t()[i]),
+            float(data.GetODE2Coordinates_tt()[i]),
+        )
+
+    def speed_at(self, t: float) -> float:
+        """Forward speed at time ``t`` [m/s]: prescribed, or (free motion) the speed body's
+        now."""
+        if self.traction is not None:
+            return self._speed_body_state()[1]
+        if self.profile is not None:
+            return self.profile.speed_at(t)
+        return self.speed - self.deceleration * t
+
+    def distance_at(self, t: float) -> float:
+        """Distance run at time ``t`` [m]: prescribed, or (free motion) the speed body's now."""
+        if self.traction is not None:
+            return self._speed_body_state()[0] - self.frame_start_m
+        if self.profile is not None:
+            return self.profile.distance_at(t)
+        return self.speed * t - 0.5 * self.deceleration * t * t
+
+    def begin_step(self, t_end: float, h: float, distance_m: float = math.inf) -> bool:
+        """Prepare the step that ends at ``t_end`` (Exudyn's pre-step function): the speed it
+        must reach (prescribed motion: the constraint's offset, the creepages' normalising
+        speed), or (free motion) the torques, the normalising speed and the frame's motion.
+        Returns False when a free run has covered ``distance_m`` or stopped."""
+        if self.traction is None:
+            v_next = self.speed_at(t_end)
+            self.mbs.SetObjectParameter(self.speed_constraint, "offset", v_next)
+            self.params[K.P_SPEED] = v_next  # creepages are normalised by the current speed
+            return True
+        return self._begin_free_step(t_end - h, t_end, distance_m)
+
+    def _begin_free_step(self, t0: float, t1: float, distance_m: float) -> bool:
+        s_b, v_b, a_b = self._speed_body_state()
+        distance = s_b - self.frame_start_m
+        if distance >= distance_m:
+            return False
+        if v_b < MIN_FREE_SPEED_M_PER_S:
+            self.stop_reason = (
+                f"the vehicle stopped (speed {v_b:.2f} m/s < {MIN_FREE_SPEED_M_PER_S:g} m/s) "
+                f"at {distance:.1f} m"
+            )
+            return False
+        # creepages normalised by the speed expected at the end of the step
+        self.params[K.P_SPEED] = max(v_b + a_b * (t1 - t0), MIN_FREE_SPEED_M_PER_S)
+        self._set_torques(t0, distance)
+        if self.curved:
+            self._follow(t0, s_b, v_b)
+        return True
+
+    def _set_torques(self, t: float, distance: float) -> None:
+        """Traction on the driven wheelsets minus the tread brakes on all, about each axle,
+        constant over the step; the reactions on the bodies they hang from."""
+        tr = self.traction
+        torque = tr.torque_N_m.value(t, distance)
+        brake = tr.brake_force_N.value(t, distance)
+        qt = self.mbs.systemData.GetODE2Coordinates_t()
+        for k, (load, reaction, driven, radius) in enumerate(self.traction_loads):
+            spin = qt[self.ltg[self.wheelset_names()[k]][5]]
+            total = (torque if driven else 0.0) - 2.0 * brake * radius * float(np.sign(spin))
+            self.axle_torques_N_m[k] = total
+            # the axle is the wheelset body's third axis; the parent body's lateral is its y
+            self.mbs.SetLoadParameter(load, "loadVector", [0.0, 0.0, total])
+            if reaction is not None:
+                self.mbs.SetLoadParameter(reaction, "loadVector", [0.0, -total, 0.0])
+
+    def _follow(self, t0: float, s_b: float, v_b: float) -> None:
+        """Steer the vehicle frame (curved track) towards the speed body over the next step:
+        its distance and speed stay continuous (the coordinates are relative to it), its
+        acceleration is constant within the step, a critically damped follower of the speed
+        body (natural frequency :data:`FRAME_FOLLOW_RAD_PER_S`)."""
+        t_prev, s_prev, v_prev, a_prev = self._frame_step
+        dt = t0 - t_prev
+        s_f = s_prev + v_prev * dt + 0.5 * a_prev * dt * dt
+        v_f = v_prev + a_prev * dt
+        w = FRAME_FOLLOW_RAD_PER_S
+        a_f = 2.0 * w * (v_b - v_f) + w * w * (s_b - s_f)
+        self._frame_step = (t0, s_f, v_f, a_f)
 
     def _name_of(self, node: int) -> str:
         return next(k for k, v in self.node.items() if v == node)

@@ -21,6 +21,7 @@ import numpy as np
 from .contact import kernel as K
 from .curving import track_columns
 from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_SIZE, WL_VERTICAL, WL_YAW, track_position
+from .longitudinal import LongitudinalRecord
 from .model import VehicleModel
 from .run_settings import RunSettings
 from .timeseries import TimeSeries
@@ -162,6 +163,8 @@ class Recorder:
         self.lift_limit = settings.derailment_lift_fraction * np.array(
             [flange_height[i] for i in order]
         )
+        # traction and braking: creepages, creep forces, spin, achieved motion
+        self.longitudinal = LongitudinalRecord(model, order, n_out)
         self.n = 0
         self.last_time = -math.inf
 
@@ -185,6 +188,7 @@ class Recorder:
         if qtt is not None:
             self.acc_q[k] = qtt[self.i_acc].ravel()
         self.frame_s[k] = model.kernel.frame[FR_S]
+        self.longitudinal.keep(k, q, qt, qtt, model.points[self.order])
         self.n = k + 1
         self.last_time = t
         return self._derailment(t, loc)
@@ -261,12 +265,15 @@ class Recorder:
         for i in range(len(self.ws_names)):
             for s, side in enumerate(("left", "right")):
                 cols[f"ws{i + 1}_{side}_Tgamma_N"] = tgamma[:, i, s]
-        if self.settings.deceleration_m_per_s2 != 0.0:
+        if self.settings.speed_varies:
             cols["speed_m_per_s"] = speed
         acc = point_accelerations(self.acc_q[:n].reshape(n, -1, 6), self.lever)
         for j, p in enumerate(self.vehicle.measurement_points):
             cols[f"{p.name}_acc_y_m_per_s2"] = acc[:, j, 0]
             cols[f"{p.name}_acc_z_m_per_s2"] = acc[:, j, 1]
+        # a free run's achieved distance and speed replace the prescribed ones
+        cols.update(self.longitudinal.columns(n))
+        speed = cols.get("speed_m_per_s", speed)
         if self.settings.contact_outputs:
             fields = contact_fields(pts)
             for i in range(len(self.ws_names)):

@@ -21,6 +21,9 @@ from dataclasses import dataclass
 
 from .errors import InputError
 from .inputs import OPTIONAL, Field, Schema, Section
+from .speed_profile import SpeedProfile, SpeedProfileError
+from .traction import BASES, Schedule, Traction, TractionError
+from .units import UnitError, to_si
 
 #: Largest distance the vehicle may travel in one integration step [m] (see the module doc).
 MAX_TRAVEL_PER_STEP_M = 0.3
@@ -62,9 +65,26 @@ RUN_SCHEMA = Schema(
         Field("contact_outputs", "record every contact point (position, angle, creepages, "
               "forces, semi-axes, T-gamma) in the time series: larger files", "boolean",
               default=False),
+        Field("traction_torque", "traction torque on each driven wheelset, constant or a table "
+              "[[time or distance, torque], ...]; frees the forward motion "
+              "(docs/traction-and-braking.md)", unit="N m", default=OPTIONAL),
+        Field("brake_force", "tread-brake force on each wheel (a torque force x radius against "
+              "the spin), constant or a table like traction_torque; frees the forward motion",
+              unit="N", default=OPTIONAL, minimum=0.0),
+        Field("driven_wheelsets", "the wheelsets traction_torque drives (default: all)",
+              "text_list", default=()),
+        Field("time_limit", "free motion: the run ends at its distance or at this time (default: "
+              "3 x distance / speed)", unit="s", default=OPTIONAL, positive=True),
     ),
-    "Settings of one run (`base.run` of a study; `railexu run` options).",
+    "Settings of one run (`base.run` of a study; `railexu run` options). The speed is "
+    "constant, or follows `speed_profile` (below), or is free with `traction_torque` or "
+    "`brake_force`.",
+    extra_keys=("speed_profile",),  # a table: read by read_speed_profile
 )  # fmt: skip
+#: Keys of the traction and braking demands (free forward motion, docs/traction-and-braking.md).
+TRACTION_KEYS = ("traction_torque", "brake_force", "driven_wheelsets", "time_limit")
+#: Keys that may hold a table (read by run_settings_from_dict itself).
+_TABLE_KEYS = ("traction_torque", "brake_force")
 
 #: The keys of a run-settings mapping (study ``run.*`` parameters).
 RUN_KEYS = RUN_SCHEMA.keys()
@@ -89,7 +109,14 @@ class RunSettings:
         derailment_lateral_m: a wheelset further than this from the track centre has left the
             rails: the run stops as ``derailed``.
         deceleration_m_per_s2: a constant deceleration from ``speed_m_per_s`` (the ramp method
-            of the critical speed); the speed must stay positive over ``distance_m``.
+            of the critical speed); the speed must stay positive over ``distance_m``. A special
+            case of ``speed_profile``.
+        speed_profile: the forward speed along the track (:class:`railexu.speed_profile.
+            SpeedProfile`, constant acceleration between its points); it sets
+            ``speed_m_per_s`` to its start speed and must cover ``distance_m``.
+        traction: traction torque and brake force with the forward motion free
+            (:class:`railexu.traction.Traction`, ``docs/traction-and-braking.md``);
+            ``speed_m_per_s`` is then the start speed.
     """
 
     speed_m_per_s: float = _D("speed")
@@ -106,8 +133,12 @@ class RunSettings:
     derailment_lift_fraction: float = 0.75
     derailment_lateral_m: float = 0.040
     deceleration_m_per_s2: float = 0.0
+    speed_profile: SpeedProfile | None = None
+    traction: Traction | None = None
 
     def __post_init__(self) -> None:
+        if self.speed_profile is not None:
+            object.__setattr__(self, "speed_m_per_s", self.speed_profile.start_speed_m_per_s)
         for key, value in (
             ("speed", self.speed_m_per_s),
             ("distance", self.distance_m),
@@ -135,7 +166,8 @@ class RunSettings:
         if not 0.0 < self.derailment_lift_fraction <= 1.0:
             _fail("derailment_lift_fraction", "must be in (0, 1]")
         self._check_deceleration()
-        check_step_for_speed(self.speed_m_per_s, self.time_step_s)
+        self._check_profile()
+        check_step_for_speed(self.max_speed_m_per_s, self.time_step_s)
         steps = self.duration_s / self.time_step_s
         if steps > MAX_STEPS:
             _fail("distance", f"{self.distance_m:g} m at {self.speed_m_per_s:g} m/s in steps of "
@@ -151,8 +183,59 @@ class RunSettings:
         if self.speed_m_per_s**2 - 2.0 * a * self.distance_m <= 0.0:
             _fail("deceleration", "the deceleration stops the vehicle before the end")
 
+    def _check_profile(self) -> None:
+        if self.speed_profile is not None:
+            if self.deceleration_m_per_s2 != 0.0:
+                _fail("speed_profile", "cannot be combined with a deceleration (give one)")
+            try:
+                self.speed_profile.check_covers(self.distance_m)
+            except SpeedProfileError as exc:
+                _fail("speed_profile", str(exc))
+        if self.traction is not None and (
+            self.speed_profile is not None or self.deceleration_m_per_s2 != 0.0
+        ):
+            _fail("speed_profile", "cannot be combined with traction_torque or brake_force, "
+                  "which free the forward motion (nor with a deceleration)")  # fmt: skip
+
+    @property
+    def free_motion(self) -> bool:
+        """The forward motion is free (traction and braking decide it), not prescribed."""
+        return self.traction is not None
+
+    @property
+    def speed_varies(self) -> bool:
+        """The forward speed changes during the run (a profile, a ramp, free motion)."""
+        return self.free_motion or self.deceleration_m_per_s2 != 0.0 or (
+            self.speed_profile is not None and len(self.speed_profile.points) > 1
+        )  # fmt: skip
+
+    @property
+    def motion(self) -> SpeedProfile:
+        """The prescribed forward motion (for free motion: the start speed, held; the achieved
+        motion comes from the simulation)."""
+        if self.speed_profile is not None:
+            return self.speed_profile
+        if self.deceleration_m_per_s2 != 0.0:
+            return SpeedProfile.ramp(
+                self.speed_m_per_s, -self.deceleration_m_per_s2, self.distance_m
+            )
+        return SpeedProfile.constant(self.speed_m_per_s)
+
+    @property
+    def max_speed_m_per_s(self) -> float:
+        """Highest prescribed speed (the start speed for free motion) [m/s]."""
+        if self.speed_profile is not None:
+            return self.speed_profile.max_speed_m_per_s
+        return self.speed_m_per_s
+
     @property
     def duration_s(self) -> float:
+        """Duration of the run [s]; for free motion its time limit."""
+        if self.traction is not None:
+            limit = self.traction.time_limit_s
+            return limit if limit is not None else 3.0 * self.distance_m / self.speed_m_per_s
+        if self.speed_profile is not None:
+            return self.speed_profile.time_at_distance(self.distance_m)
         a = self.deceleration_m_per_s2
         if a == 0.0:
             return self.distance_m / self.speed_m_per_s
@@ -160,12 +243,28 @@ class RunSettings:
         return (self.speed_m_per_s - v_end) / a
 
     def speed_at(self, t: float) -> float:
-        """Forward speed at time ``t`` [m/s]."""
+        """Prescribed forward speed at time ``t`` [m/s] (free motion: the start speed)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.speed_at(t)
+        if self.traction is not None:
+            return self.speed_m_per_s
         return self.speed_m_per_s - self.deceleration_m_per_s2 * t
 
     def distance_at(self, t: float) -> float:
-        """Distance run at time ``t`` [m]."""
+        """Prescribed distance run at time ``t`` [m] (free motion: at the start speed)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.distance_at(t)
+        if self.traction is not None:
+            return self.speed_m_per_s * t
         return self.speed_m_per_s * t - 0.5 * self.deceleration_m_per_s2 * t * t
+
+    def acceleration_at(self, t: float) -> float:
+        """Prescribed forward acceleration at time ``t`` [m/s^2] (free motion: 0)."""
+        if self.speed_profile is not None:
+            return self.speed_profile.acceleration_at(t)
+        if self.traction is not None:
+            return 0.0
+        return -self.deceleration_m_per_s2
 
     @property
     def output_every(self) -> int:
@@ -219,7 +318,7 @@ def run_settings_from_dict(
         InputError: unknown keys, wrong units, invalid values (naming source, line and key).
     """
     sec = Section(data, source, lines, path, RUN_KEYS)
-    values = RUN_SCHEMA.read_all(sec)
+    values = RUN_SCHEMA.read_all(sec, [k for k in RUN_SCHEMA.by_key if k not in _TABLE_KEYS])
     kwargs = dict(
         speed_m_per_s=values["speed"],
         distance_m=values["distance"],
@@ -233,9 +332,157 @@ def run_settings_from_dict(
         evaluate_to_m=values["evaluate_to"],
         contact_outputs=values["contact_outputs"],
     )
+    if "speed_profile" in data:
+        if "speed" in data:
+            sec.fail("give either speed or speed_profile (whose first point is the start "
+                     "speed)", key="speed")  # fmt: skip
+        kwargs["speed_profile"] = read_speed_profile(sec)
+    if any(k in data for k in _TABLE_KEYS):
+        kwargs["traction"] = read_traction(sec, values)
+    else:
+        for key in ("driven_wheelsets", "time_limit"):
+            if key in data:
+                sec.fail("only used with traction_torque or brake_force (free motion)", key=key)
     try:
         return RunSettings(**kwargs)
     except RunSettingsError as exc:
         key = exc.field if exc.field in RUN_KEYS else None
         sec.fail(str(exc).removeprefix(f"run settings: {exc.field} "), key=key)
         raise  # unreachable
+
+
+def _pairs(sec: Section, key: str, units: tuple[str, str], names: tuple[str, str]) -> list:
+    """A table ``[[x, y], ...]`` (or ``[{names[0]: x, names[1]: y}, ...]``) in SI; a unit of
+    ``units[0]`` may be a tuple of choices (the first that fits is the table's basis).
+    Returns ``[(x, y), ...]`` and the unit of the first column."""
+    raw = sec.data[key]
+    if not isinstance(raw, list) or not raw:
+        sec.fail(f"expected a list of [{names[0]}, {names[1]}] pairs, e.g. "
+                 f"[[0 {units[0][0]}, 10 {units[1]}], [100 {units[0][0]}, 20 {units[1]}]]",
+                 key=key)  # fmt: skip
+    where = Section({i: None for i in range(len(raw))}, sec.source, sec.lines, (*sec.path, key))
+    out = []
+    x_unit = None
+    for i, item in enumerate(raw):
+        if isinstance(item, dict):
+            Section(item, sec.source, sec.lines, (*sec.path, key, i), names)
+            item = [item.get(names[0]), item.get(names[1])]
+        if not isinstance(item, list) or len(item) != 2:
+            where.fail(f"expected a pair [{names[0]}, {names[1]}], got {item!r}", key=i)
+        choices = (x_unit,) if x_unit else units[0]
+        x = None
+        for unit in choices:
+            try:
+                x = to_si(item[0], unit)
+                x_unit = unit
+                break
+            except UnitError as exc:
+                problem = str(exc)
+        if x is None:
+            where.fail(f"{names[0]}: {problem}", key=i)
+        try:
+            y = to_si(item[1], units[1])
+        except UnitError as exc:
+            where.fail(f"{names[1]}: {exc}", key=i)
+        out.append((x, y))
+    return out, x_unit
+
+
+def read_speed_profile(sec: Section, key: str = "speed_profile") -> SpeedProfile:
+    """The ``speed_profile`` of a run-settings mapping: ``[[0 m, 10 m/s], [200 m, 20 m/s]]``
+    or ``[{distance: 0 m, speed: 10 m/s}, ...]``; constant acceleration between the points.
+
+    Raises:
+        InputError: naming the key (and the point) at fault.
+    """
+    pairs, _ = _pairs(sec, key, (("m",), "m/s"), ("distance", "speed"))
+    try:
+        return SpeedProfile(tuple(pairs))
+    except SpeedProfileError as exc:
+        sec.fail(str(exc), key=key)
+        raise  # unreachable
+
+
+def _schedule(sec: Section, key: str, unit: str) -> Schedule:
+    """A constant (``20 kN m``) or a table over time or distance (``[[0 s, 0 N m], [5 s,
+    20 kN m]]``: the first column's unit, s or m, says which)."""
+    raw = sec.data[key]
+    if not isinstance(raw, list):
+        return Schedule.constant(sec.quantity(key, unit))
+    pairs, x_unit = _pairs(sec, key, (("s", "m"), unit), ("time or distance", "value"))
+    basis = next(b for b, u in BASES.items() if u == x_unit)
+    try:
+        return Schedule(tuple(pairs), basis)
+    except TractionError as exc:
+        sec.fail(str(exc), key=key)
+        raise  # unreachable
+
+
+def read_traction(sec: Section, values: dict) -> Traction:
+    """The traction and braking demands of a run-settings mapping (free forward motion,
+    docs/traction-and-braking.md)::
+
+        {traction_torque: 20 kN m, driven_wheelsets: [ws1, ws2], brake_force: 0 N}
+
+    ``values``: the other keys, read.
+
+    Raises:
+        InputError: naming the key at fault.
+    """
+    kwargs = {
+        "wheelsets": values["driven_wheelsets"],
+        "time_limit_s": values["time_limit"],
+    }
+    for key, name, unit in (("traction_torque", "torque_N_m", "N m"),
+                            ("brake_force", "brake_force_N", "N")):  # fmt: skip
+        if key in sec.data:
+            kwargs[name] = _schedule(sec, key, unit)
+    try:
+        return Traction(**kwargs)
+    except TractionError as exc:
+        field, _, message = str(exc).partition(": ")
+        sec.fail(message, key=field if field in TRACTION_KEYS else None)
+        raise  # unreachable
+
+
+def speed_profile_from_csv(path) -> SpeedProfile:
+    """A speed profile from a CSV file of ``distance, speed`` rows (``railexu run
+    --speed-profile``): bare numbers are SI (m, m/s), a cell may carry its unit (``0.5 km``,
+    ``72 km/h``); a first row that is not a number (a header) and lines starting with ``#`` are
+    skipped.
+
+    Raises:
+        InputError: naming the file and line of a bad row, or what is wrong with the profile.
+    """
+    from pathlib import Path
+
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read the speed profile: {exc.strerror}", source=source) from None
+    points = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        cells = [c.strip() for c in line.split(",")]
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        if len(cells) != 2:
+            raise InputError(f"expected two columns, distance and speed, got {line!r}",
+                             source=source, line=number)  # fmt: skip
+        try:
+            points.append((to_si(cells[0], "m"), to_si(cells[1], "m/s")))
+        except UnitError as exc:
+            if not points and number == _first_content_line(text):
+                continue  # a header
+            raise InputError(str(exc), source=source, line=number) from None
+    try:
+        return SpeedProfile(tuple(points))
+    except SpeedProfileError as exc:
+        raise InputError(str(exc), source=source, key="speed_profile") from None
+
+
+def _first_content_line(text: str) -> int:
+    for number, line in enumerate(text.splitlines(), start=1):
+        if line.strip() and not line.lstrip().startswith("#"):
+            return number
+    return 0

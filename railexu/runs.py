@@ -30,7 +30,8 @@ from .vehicle import Vehicle
 __all__ = ["RunResult", "RunSettings", "print_progress", "run"]
 
 #: The facts of the run that the summary carries after the assessment, in this order.
-_FACTS = ("timings_s", "solver", "settings", "vehicle", "track", "curving", "warnings")
+_FACTS = ("timings_s", "solver", "settings", "vehicle", "track", "curving", "warnings",
+          "longitudinal")  # fmt: skip
 
 
 def run(

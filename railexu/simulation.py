@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from .contact import kernel as K
+from .longitudinal import longitudinal_summary
 from .model import VehicleModel
 from .preflight import check_initial_offset, check_time_step_for_track
 from .recorder import CONTACT_FIELDS as CONTACT_FIELDS
@@ -143,6 +143,8 @@ def simulate(
         settings.initial_lateral_m,
         settings.distance_m,
         settings.deceleration_m_per_s2,
+        speed_profile=settings.speed_profile,
+        traction=settings.traction,
     )
     model.warm_up()
     t_built = time.perf_counter()
@@ -171,6 +173,7 @@ def simulate(
     warnings += list(model.axle_load_warnings)
     if warnings:
         facts["warnings"] = warnings
+    facts["longitudinal"] = longitudinal_summary(ts, model)
     points = recorder.contact_points()
     return RunResult(ts, facts, status, settings, vehicle, track, timings, model, points)
 
@@ -243,18 +246,15 @@ def _integrate(model, settings, ss, recorder, progress):
             elapsed = time.perf_counter() - wall0[0]
             frac = t / ti.endTime if ti.endTime > 0 else 1.0
             eta = elapsed * (1.0 - frac) / frac if frac > 0 else math.inf
-            progress(settings.distance_at(t), settings.distance_m, settings.speed_at(t), eta)
+            progress(model.distance_at(t), settings.distance_m, model.speed_at(t), eta)
         return rec["status"] is None
 
     interval = settings.output_every * h
-    params = model.params
 
     def pre_step(mbs_, t: float) -> bool:
-        # t is the end time of the step about to be computed: the speed it must reach
-        v_next = settings.speed_at(t)
-        mbs.SetObjectParameter(model.speed_constraint, "offset", v_next)
-        params[K.P_SPEED] = v_next  # creepages are normalised by the current speed
-        return True
+        # t is the end time of the step about to be computed: the speed it must reach, or
+        # (free motion) the torques; False ends a free run at its distance or standstill
+        return model.begin_step(t, h, settings.distance_m)
 
     def post_step(mbs_, t: float) -> bool:
         # called with the initial state (t = 0) and after every step, with the state at t
@@ -269,7 +269,7 @@ def _integrate(model, settings, ss, recorder, progress):
             return record(t)
         return True
 
-    if settings.deceleration_m_per_s2 != 0.0:
+    if settings.speed_varies:
         mbs.SetPreStepUserFunction(pre_step)
     mbs.SetPostStepUserFunction(post_step)
     solver_type = (
@@ -319,7 +319,7 @@ def _final_status(model, settings, recorder, error, stop) -> dict:
         state, t_stop, reason = "completed", t_end, ""
     return {
         "state": state,
-        "distance_m": settings.distance_at(t_stop),
+        "distance_m": model.distance_at(t_stop),
         "time_s": t_stop,
         "reason": reason,
     }

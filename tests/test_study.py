@@ -356,6 +356,7 @@ def test_example_studies_load():
         "eu07_primary_stiffness_vs_speed": 16,
         "eu07_critical_speed_vs_primary_stiffness": 4,
         "eu07_curve_r300_cant_deficiency": 5,
+        "eu07_traction_adhesion": 5,
     }
     assert {p.stem for p in STUDIES.glob("*.yaml")} == set(counts)
     for name, n in counts.items():

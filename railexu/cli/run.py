@@ -24,7 +24,37 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument(
         "--track", help="track: a shipped name or a YAML file (default: ideal straight track)"
     )
-    p.add_argument("--speed", type=quantity("m/s"), default=10.0, help="forward speed [m/s]")
+    p.add_argument(
+        "--speed",
+        type=quantity("m/s"),
+        default=_DefaultSpeed(10.0),
+        help="forward speed [m/s] (the start speed with --traction-torque or --brake-force)",
+    )
+    p.add_argument(
+        "--speed-profile",
+        metavar="FILE.csv",
+        help="prescribed speed along the track: a CSV of "
+        "distance, speed rows (m, m/s, or cells with units), constant acceleration between them "
+        "(docs/run-settings-format.md)",
+    )
+    p.add_argument(
+        "--traction-torque",
+        type=quantity("N m"),
+        help="traction torque on each driven wheelset "
+        "[N m]; frees the forward motion (docs/traction-and-braking.md)",
+    )
+    p.add_argument(
+        "--brake-force",
+        type=quantity("N"),
+        help="tread-brake force on each wheel [N]; frees the forward motion",
+    )
+    p.add_argument("--driven", metavar="WS1,WS2", help="the driven wheelsets (default: all)")
+    p.add_argument(
+        "--time-limit",
+        type=quantity("s"),
+        help="free motion: end the run at this time if the "
+        "distance is not reached (default: 3 x distance / start speed)",
+    )
     p.add_argument("--distance", type=quantity("m"), default=150.0, help="distance to run [m]")
     p.add_argument(
         "--initial-lateral",
@@ -77,6 +107,36 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
+class _DefaultSpeed(float):
+    """The default of ``--speed``: a float that tells it was not given."""
+
+
+def _longitudinal_options(args: argparse.Namespace) -> dict:
+    """``RunSettings`` keywords of the speed options: a constant speed, a profile, or free motion
+    with traction and braking."""
+    from ..run_settings import speed_profile_from_csv
+    from ..traction import Schedule, Traction
+
+    free = args.traction_torque is not None or args.brake_force is not None
+    if args.speed_profile is not None:
+        if not isinstance(args.speed, _DefaultSpeed) or free:
+            raise CliError("--speed-profile: give no --speed (the profile's first point is the "
+                           "start speed), nor traction or braking")  # fmt: skip
+        return {"speed_profile": speed_profile_from_csv(args.speed_profile)}
+    out = {"speed_m_per_s": float(args.speed)}
+    if not free:
+        if args.driven or args.time_limit is not None:
+            raise CliError("--driven and --time-limit need --traction-torque or --brake-force")
+        return out
+    out["traction"] = Traction(
+        torque_N_m=Schedule.constant(args.traction_torque or 0.0),
+        brake_force_N=Schedule.constant(args.brake_force or 0.0),
+        wheelsets=tuple(w.strip() for w in (args.driven or "").split(",") if w.strip()),
+        time_limit_s=args.time_limit,
+    )
+    return out
+
+
 def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
     """``--plots`` value -> figure formats (empty: no figures)."""
     from ..errors import did_you_mean
@@ -116,7 +176,7 @@ def command(args: argparse.Namespace) -> int:
         else:
             track = ideal_straight_track()
         settings = RunSettings(
-            speed_m_per_s=args.speed,
+            **_longitudinal_options(args),
             distance_m=args.distance,
             initial_lateral_m=args.initial_lateral,
             time_step_s=args.step,
