@@ -324,6 +324,10 @@ class VehicleModel:
                 lb, gb = self._local_point(b, el.position_m)
                 axis = "xyz".index(el.direction)
                 self.bump_stops.append((a, b, la, lb, axis, el, float(gb[axis] - ga[axis])))
+            else:
+                raise ModelError(
+                    f"suspension element {el.name}: type {type(el).__name__} is not simulated yet"
+                )
 
     def _add_spring_damper(self, el: SpringDamper) -> None:
         from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper

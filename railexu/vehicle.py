@@ -42,12 +42,18 @@ from .vehicle_schema import (
 __all__ = [
     "AXES",
     "FORMAT_VERSION",
+    "AirSpring",
+    "AntiRollBar",
     "Body",
     "BumpStop",
+    "Damper",
+    "Friction",
     "Load",
     "MeasurementPoint",
+    "NonlinearSpring",
     "SpringDamper",
     "TorsionSpring",
+    "UICLink",
     "Vehicle",
     "Wheelset",
     "load_vehicle",
@@ -169,7 +175,115 @@ class Load:
     static: bool = True
 
 
-SuspensionElement = SpringDamper | TorsionSpring | BumpStop
+@dataclass(frozen=True)
+class NonlinearSpring:
+    """Force against deflection from a table along one track axis (``docs/suspension.md``).
+
+    The deflection ``d`` is the second body's attachment point minus the first's along
+    ``direction`` (measured from the unloaded element); the element pushes the second body with
+    ``-F(d) - c d'``. The table is the full one (a ``symmetric`` file table is mirrored)."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    direction: str
+    deflection_m: tuple[float, ...]
+    force_N: tuple[float, ...]
+    interpolation: str = "linear"
+    damping_N_s_per_m: float = 0.0
+    estimate: str = ""
+
+
+@dataclass(frozen=True)
+class Damper:
+    """A damper along one track axis: force ``F(v)`` of the relative velocity from a table (a
+    linear damper is the table ``[-1, 1] m/s -> [-c, c]``, continued linearly), in series with
+    the bushes' stiffness when ``series_stiffness_N_per_m`` is set (a Maxwell element)."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    direction: str
+    velocity_m_per_s: tuple[float, ...]
+    force_N: tuple[float, ...]
+    interpolation: str = "linear"
+    series_stiffness_N_per_m: float | None = None
+    damping_N_s_per_m: float | None = None  # the linear coefficient when the file gave one
+    estimate: str = ""
+
+
+@dataclass(frozen=True)
+class Friction:
+    """Dry friction along one track axis: ``F_c tanh(v / v_s)`` of the sliding velocity; with
+    a stick stiffness, a spring in series with the slider (stick-slip, one internal
+    coordinate)."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    direction: str
+    friction_force_N: float
+    slip_velocity_m_per_s: float = 1.0e-3
+    stick_stiffness_N_per_m: float | None = None
+    estimate: str = ""
+
+
+@dataclass(frozen=True)
+class UICLink:
+    """The UIC double-link suspension, longitudinal (x) and lateral (y): pendulum stiffness
+    ``W / L`` in parallel with a stick-slip friction element of limit ``mu W`` (Piotrowski
+    2003). ``vertical_load_N`` None: the static load of the vertical elements at its point."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    pendulum_length_m: tuple[float, float]
+    friction_coefficient: tuple[float, float]
+    stick_stiffness_N_per_m: tuple[float, float]
+    vertical_load_N: float | None = None
+    slip_velocity_m_per_s: float = 1.0e-3
+    estimate: str = ""
+
+
+@dataclass(frozen=True)
+class AirSpring:
+    """An air spring with reservoir (vertical): ``k1`` in parallel with ``k2`` in series with
+    the orifice damping ``c``; shear stiffness and damping in x and y."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    vertical_stiffness_N_per_m: float
+    reservoir_stiffness_N_per_m: float
+    orifice_damping_N_s_per_m: float
+    lateral_stiffness_N_per_m: tuple[float, float] = (0.0, 0.0)
+    lateral_damping_N_s_per_m: tuple[float, float] = (0.0, 0.0)
+    estimate: str = ""
+
+
+@dataclass(frozen=True)
+class AntiRollBar:
+    """A torsion bar resisting the relative roll of two bodies (moment ``k (phi_2 - phi_1)``)."""
+
+    name: str
+    bodies: tuple[str, str]
+    position_m: tuple[float, float, float]
+    stiffness_N_m_per_rad: float
+    damping_N_m_s_per_rad: float = 0.0
+    estimate: str = ""
+
+
+SuspensionElement = (
+    SpringDamper
+    | TorsionSpring
+    | BumpStop
+    | NonlinearSpring
+    | Damper
+    | Friction
+    | UICLink
+    | AirSpring
+    | AntiRollBar
+)
 
 
 @dataclass(frozen=True)
@@ -432,28 +546,128 @@ def _element(top: Section, name: Any, names: list[str]) -> list[SuspensionElemen
         sec.fail("an element must connect two different bodies", key="bodies")
     position = schema.read(sec, "position")
     estimate = schema.read(sec, "estimate")
+    make = _ELEMENT_MAKERS[kind](sec, schema, pair, estimate)
+    mirror = _mirror(sec, schema, position) if "mirror_y" in schema.by_key else False
+    return [make(n, p) for n, p in _mirrored(str(name), position, mirror)]
+
+
+def _linear_maker(sec: Section, schema, pair, estimate):
+    kind = schema.name
     if kind == "spring_damper":
         stiffness, damping = schema.read(sec, "stiffness"), schema.read(sec, "damping")
         if not (any(stiffness) or any(damping)):
             sec.fail("give a stiffness or a damping", key="stiffness")
-
-        def make(n, p):
-            return SpringDamper(n, pair, p, stiffness, damping, estimate)
-
-    elif kind == "torsion_spring":
+        return lambda n, p: SpringDamper(n, pair, p, stiffness, damping, estimate)
+    if kind == "torsion_spring":
         axis, k, c = (schema.read(sec, key) for key in ("axis", "stiffness", "damping"))
+        return lambda n, p: TorsionSpring(n, pair, p, axis, k, c, estimate)
+    values = [schema.read(sec, k) for k in ("direction", "clearance", "stiffness", "damping")]
+    return lambda n, p: BumpStop(n, pair, p, *values, estimate)
 
-        def make(n, p):
-            return TorsionSpring(n, pair, p, axis, k, c, estimate)
 
+def _nonlinear_spring_maker(sec: Section, schema, pair, estimate):
+    direction = schema.read(sec, "direction")
+    x, f = _table(sec, schema, "deflection", "force", "deflection")
+    interpolation, damping = schema.read(sec, "interpolation"), schema.read(sec, "damping")
+    return lambda n, p: NonlinearSpring(
+        n, pair, p, direction, x, f, interpolation, damping, estimate
+    )
+
+
+def _damper_maker(sec: Section, schema, pair, estimate):
+    direction = schema.read(sec, "direction")
+    c = schema.read(sec, "damping")
+    given = [k for k in ("velocity", "force") if k in sec.data]
+    if c is not None and given:
+        sec.fail("give either damping or a velocity/force table, not both", key="damping")
+    if c is None and not given:
+        sec.fail("give a damping coefficient or a velocity/force table", key="damping")
+    if c is not None:
+        v, f = (-1.0, 1.0), (-c, c)
     else:
-        values = [schema.read(sec, k) for k in ("direction", "clearance", "stiffness", "damping")]
+        v, f = _table(sec, schema, "velocity", "force", "velocity")
+        if abs(_interpolate_linear(v, f, 0.0)) > 1e-6 * max(abs(x) for x in f):
+            sec.fail("a damper's force must be 0 at zero velocity", key="force")
+    k_s = schema.read(sec, "series_stiffness")
+    interpolation = schema.read(sec, "interpolation")
+    return lambda n, p: Damper(n, pair, p, direction, v, f, interpolation, k_s, c, estimate)
 
-        def make(n, p):
-            return BumpStop(n, pair, p, *values, estimate)
 
-    mirror = _mirror(sec, schema, position)
-    return [make(n, p) for n, p in _mirrored(str(name), position, mirror)]
+def _friction_maker(sec: Section, schema, pair, estimate):
+    values = [schema.read(sec, k) for k in ("direction", "friction_force", "slip_velocity",
+                                            "stick_stiffness")]  # fmt: skip
+    return lambda n, p: Friction(n, pair, p, *values, estimate)
+
+
+def _uic_link_maker(sec: Section, schema, pair, estimate):
+    keys = ("pendulum_length", "friction_coefficient", "stick_stiffness", "vertical_load",
+            "slip_velocity")  # fmt: skip
+    values = [schema.read(sec, k) for k in keys]
+    return lambda n, p: UICLink(n, pair, p, *values, estimate)
+
+
+def _air_spring_maker(sec: Section, schema, pair, estimate):
+    keys = ("vertical_stiffness", "reservoir_stiffness", "orifice_damping", "lateral_stiffness",
+            "lateral_damping")  # fmt: skip
+    values = [schema.read(sec, k) for k in keys]
+    return lambda n, p: AirSpring(n, pair, p, *values, estimate)
+
+
+def _anti_roll_bar_maker(sec: Section, schema, pair, estimate):
+    k, c = schema.read(sec, "stiffness"), schema.read(sec, "damping")
+    return lambda n, p: AntiRollBar(n, pair, p, k, c, estimate)
+
+
+_ELEMENT_MAKERS = {
+    "spring_damper": _linear_maker,
+    "torsion_spring": _linear_maker,
+    "bump_stop": _linear_maker,
+    "nonlinear_spring": _nonlinear_spring_maker,
+    "damper": _damper_maker,
+    "friction": _friction_maker,
+    "uic_link": _uic_link_maker,
+    "air_spring": _air_spring_maker,
+    "anti_roll_bar": _anti_roll_bar_maker,
+}
+
+
+def _table(sec: Section, schema, x_key: str, f_key: str, what: str):
+    """A characteristic table ``(x, F)``: same lengths, ``x`` strictly increasing, ``F``
+    non-decreasing (a falling characteristic is a negative stiffness or damping: unstable);
+    a ``symmetric`` table starts at (0, 0) and is mirrored, ``F(-x) = -F(x)``."""
+    for key in (x_key, f_key):
+        if key not in sec.data:
+            sec.fail(f"missing key {key!r}: the table needs both {x_key} and {f_key}", key=key)
+    x, f = schema.read(sec, x_key), schema.read(sec, f_key)
+    if len(x) != len(f):
+        sec.fail(f"{f_key} has {len(f)} values but {x_key} has {len(x)}", key=f_key)
+    for i in range(1, len(x)):
+        if not x[i] > x[i - 1]:
+            sec.fail(f"the {what} values must increase, but entry {i} ({x[i]:g}) is not above "
+                     f"entry {i - 1} ({x[i - 1]:g})", key=x_key)  # fmt: skip
+        if f[i] < f[i - 1]:
+            sec.fail(f"the {f_key} must not decrease with the {what} (a falling "
+                     f"characteristic is a negative stiffness or damping), but entry {i} "
+                     f"({f[i]:g}) is below entry {i - 1} ({f[i - 1]:g})", key=f_key)  # fmt: skip
+    if f[-1] == f[0]:
+        sec.fail(f"the {f_key} is constant: the element would carry no load", key=f_key)
+    if schema.read(sec, "symmetric"):
+        if x[0] != 0.0 or f[0] != 0.0:
+            sec.fail(f"a symmetric table starts at {what} 0 with {f_key} 0, got "
+                     f"({x[0]:g}, {f[0]:g})", key=x_key)  # fmt: skip
+        x = tuple(-v for v in reversed(x[1:])) + tuple(x)
+        f = tuple(-v for v in reversed(f[1:])) + tuple(f)
+    return tuple(x), tuple(f)
+
+
+def _interpolate_linear(x, f, at: float) -> float:
+    import numpy as np
+
+    if at <= x[0]:
+        return f[0] + (f[1] - f[0]) / (x[1] - x[0]) * (at - x[0])
+    if at >= x[-1]:
+        return f[-1] + (f[-1] - f[-2]) / (x[-1] - x[-2]) * (at - x[-1])
+    return float(np.interp(at, x, f))
 
 
 def _loads(top: Section, name: Any, names: list[str]) -> list[Load]:

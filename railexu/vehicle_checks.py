@@ -36,8 +36,35 @@ def check_topology(vehicle: Vehicle, top: Section) -> None:
     cannot stand on its rails (see the module docstring)."""
     _check_wheelset_spacing(vehicle, top)
     _check_points(vehicle, top)
+    _check_element_bodies(vehicle, top)
     if vehicle.bodies:
         _check_connections(vehicle, top)
+
+
+def carries_weight(el) -> bool:
+    """The element has a vertical stiffness that can carry a body's weight at rest: a
+    spring-damper with z stiffness, a nonlinear spring along z, an air spring (torsion springs,
+    bump stops, dampers, friction, links and anti-roll bars carry no weight)."""
+    kind = type(el).__name__
+    if kind == "SpringDamper":
+        return el.stiffness_N_per_m[2] > 0.0
+    if kind == "NonlinearSpring":
+        return el.direction == "z"
+    return kind == "AirSpring"
+
+
+def _check_element_bodies(vehicle: Vehicle, top: Section) -> None:
+    """Anti-roll bars act on the relative roll of two bodies; a wheelset's roll coordinate is
+    not separable from its spin, so they are refused on wheelsets (like torsion springs)."""
+    wheelsets = {w.name for w in vehicle.wheelsets}
+    raw = vehicle.raw.get("suspension") or {}
+    for el in vehicle.suspension:
+        if type(el).__name__ == "AntiRollBar" and set(el.bodies) & wheelsets:
+            _fail_at(
+                top,
+                ("suspension", _entry(el.name, raw), "bodies"),
+                "an anti-roll bar joins two bodies (car body and bogie frame), not a wheelset",
+            )
 
 
 def _fail_at(top: Section, path: tuple, message: str) -> None:
@@ -130,10 +157,7 @@ def _check_connections(vehicle: Vehicle, top: Section) -> None:
             )
     vertical: dict[str, set[str]] = {}
     for el in vehicle.suspension:
-        # spring-dampers carry loads along three axes (a tuple of stiffnesses); torsion springs
-        # and bump stops carry no weight at rest
-        stiffness = getattr(el, "stiffness_N_per_m", None)
-        if isinstance(stiffness, tuple) and stiffness[2] > 0.0:
+        if carries_weight(el):
             a, b = el.bodies
             vertical.setdefault(a, set()).add(b)
             vertical.setdefault(b, set()).add(a)

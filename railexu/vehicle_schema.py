@@ -129,6 +129,8 @@ WHEELSET = Schema(
     "A wheelset (axle along y), by name under `wheelsets:`; at least one.",
 )  # fmt: skip
 
+#: Interpolation of characteristic tables between their points.
+INTERPOLATIONS = ("linear", "smooth")
 _BODIES = Field("bodies", "the two bodies it connects, [upper, lower]", "text_list")
 _POSITION = Field("position", "attachment point, vehicle axes", "vector", "m", **_POS)
 _MIRROR = Field("mirror_y", "also at -y: makes NAME_left and NAME_right", "boolean",
@@ -172,6 +174,131 @@ ELEMENTS = {
             _ESTIMATE, _NOTES,
         ),
         "No force within +-clearance, then a linear spring (and damper).",
+    ),
+    "nonlinear_spring": Schema(
+        "nonlinear_spring",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("direction", "direction of the element (track axes)", "text", choices=AXES),
+            Field("deflection", "table: deflection, second body's point minus the first's "
+                  "along the direction (z: [upper, lower] gives compression > 0), increasing",
+                  "number_list", "m", minimum=-1.0, maximum=1.0),
+            Field("force", "table: force of the element at each deflection (pushes the bodies "
+                  "back: -F on the second body), non-decreasing", "number_list", "N",
+                  minimum=-1e8, maximum=1e8),
+            Field("symmetric", "the table gives deflection >= 0 only (from 0, 0): F(-d) = -F(d)",
+                  "boolean", default=False),
+            Field("interpolation", "between table points: linear, or smooth (monotone cubic, "
+                  "Fritsch-Carlson / PCHIP)", "text", default="linear", choices=INTERPOLATIONS),
+            Field("damping", "parallel viscous damping", unit="N s/m", default=0.0,
+                  minimum=0.0, maximum=1e9),
+            _ESTIMATE, _NOTES,
+        ),
+        "Force against deflection from a table along one axis (progressive bump stops, "
+        "rubber springs, leaf springs); outside the table the end slopes continue.",
+    ),
+    "damper": Schema(
+        "damper",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("direction", "direction of the damper (track axes)", "text", choices=AXES),
+            Field("damping", "linear damping coefficient (or give velocity and force)",
+                  unit="N s/m", default=OPTIONAL, positive=True, maximum=1e9),
+            Field("velocity", "table: relative velocity of the second body's point along the "
+                  "direction, increasing", "number_list", "m/s", default=OPTIONAL,
+                  minimum=-100.0, maximum=100.0),
+            Field("force", "table: damper force at each velocity (-F on the second body), "
+                  "non-decreasing (e.g. blow-off)", "number_list", "N", default=OPTIONAL,
+                  minimum=-1e8, maximum=1e8),
+            Field("symmetric", "the table gives velocity >= 0 only (from 0, 0): F(-v) = -F(v)",
+                  "boolean", default=False),
+            Field("interpolation", "between table points: linear or smooth (PCHIP)", "text",
+                  default="linear", choices=INTERPOLATIONS),
+            Field("series_stiffness", "stiffness of the end bushes in series with the damper "
+                  "(a Maxwell element with one internal coordinate); absent: rigid",
+                  unit="N/m", default=OPTIONAL, positive=True, maximum=1e10),
+            _ESTIMATE, _NOTES,
+        ),
+        "A hydraulic damper along one axis: linear or from a force-velocity table, optionally "
+        "in series with its bush stiffness (yaw dampers, lateral and vertical dampers).",
+    ),
+    "friction": Schema(
+        "friction",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("direction", "direction of sliding (track axes)", "text", choices=AXES),
+            Field("friction_force", "sliding (Coulomb) friction force", unit="N",
+                  positive=True, maximum=1e7),
+            Field("slip_velocity", "regularisation: F = F_c tanh(v / slip_velocity)",
+                  unit="m/s", default=1.0e-3, positive=True, maximum=1.0),
+            Field("stick_stiffness", "stiffness of the contact before sliding (stick-slip "
+                  "model: spring in series with the slider, one internal coordinate); absent: "
+                  "regularised Coulomb friction only", unit="N/m", default=OPTIONAL,
+                  positive=True, maximum=1e10),
+            _ESTIMATE, _NOTES,
+        ),
+        "Dry (Coulomb) friction along one axis: friction wedges, leaf-spring friction, side "
+        "bearers.",
+    ),
+    "uic_link": Schema(
+        "uic_link",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("pendulum_length", "effective pendulum length of the links, longitudinal "
+                  "and lateral", "vector", "m", components=("x", "y"), positive=True,
+                  maximum=2.0),
+            Field("friction_coefficient", "friction coefficient of the link joints "
+                  "(friction force = coefficient x vertical load), longitudinal and lateral",
+                  "vector", "1", components=("x", "y"), minimum=0.0, maximum=1.0),
+            Field("stick_stiffness", "stiffness of the suspension before the links slide, "
+                  "longitudinal and lateral", "vector", "N/m", components=("x", "y"),
+                  positive=True, maximum=1e10),
+            Field("vertical_load", "vertical load W on the link suspension; absent: the "
+                  "static load of the elements with vertical stiffness between the same "
+                  "bodies at the same point", unit="N", default=OPTIONAL, positive=True,
+                  maximum=1e7),
+            Field("slip_velocity", "regularisation of the sliding friction", unit="m/s",
+                  default=1.0e-3, positive=True, maximum=1.0),
+            _ESTIMATE, _NOTES,
+        ),
+        "The UIC double-link (pendulum) suspension of two-axle freight wagons, longitudinal "
+        "and lateral: pendulum stiffness W / L in parallel with a stick-slip friction element "
+        "(Piotrowski 2003). The vertical (leaf) spring is a separate element.",
+    ),
+    "air_spring": Schema(
+        "air_spring",
+        (
+            _BODIES, _POSITION, _MIRROR,
+            Field("vertical_stiffness", "static vertical stiffness k1 (bag with its reservoir, "
+                  "the stiffness at zero frequency)", unit="N/m", positive=True, maximum=1e9),
+            Field("reservoir_stiffness", "stiffness k2 in series with the orifice damping: "
+                  "the stiffness at infinite frequency is k1 + k2", unit="N/m", minimum=0.0,
+                  maximum=1e9),
+            Field("orifice_damping", "damping c of the flow between bag and reservoir",
+                  unit="N s/m", positive=True, maximum=1e8),
+            Field("lateral_stiffness", "shear stiffness of the bag, longitudinal and lateral",
+                  "vector", "N/m", components=("x", "y"), default=(0.0, 0.0), minimum=0.0,
+                  maximum=1e9),
+            Field("lateral_damping", "shear damping of the bag, longitudinal and lateral",
+                  "vector", "N s/m", components=("x", "y"), default=(0.0, 0.0), minimum=0.0,
+                  maximum=1e8),
+            _ESTIMATE, _NOTES,
+        ),
+        "An air spring with its reservoir, vertical: k1 in parallel with k2 in series with c "
+        "(a linear model in the manner of Berg 1999 / Nishimura); it carries its static load.",
+    ),
+    "anti_roll_bar": Schema(
+        "anti_roll_bar",
+        (
+            _BODIES, _POSITION,
+            Field("stiffness", "roll stiffness: moment per relative roll angle of the bodies",
+                  unit="N m/rad", positive=True, maximum=1e10),
+            Field("damping", "roll damping", unit="N m s/rad", default=0.0, minimum=0.0,
+                  maximum=1e9),
+            _ESTIMATE, _NOTES,
+        ),
+        "A torsion bar between car body and bogie resisting their relative roll only; not on "
+        "wheelsets.",
     ),
 }  # fmt: skip
 ELEMENT_TYPE = Field("type", "kind of element", "text", choices=tuple(ELEMENTS))

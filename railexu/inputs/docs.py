@@ -53,6 +53,8 @@ def _allowed_text(f: Field) -> str:
 
 
 def _kind_text(f: Field) -> str:
+    if f.kind == "number_list":
+        return f"list of {_UNIT_NAMES.get(f.unit, f.unit)}".rstrip()
     if f.kind in ("quantity", "vector", "sided") and f.unit:
         return _UNIT_NAMES.get(f.unit, f.unit)
     return {

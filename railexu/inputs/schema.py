@@ -25,7 +25,7 @@ from .section import Section
 
 KINDS = (
     "quantity", "vector", "text", "integer", "boolean", "text_list", "section", "named",
-    "model", "sided", "inclination",
+    "model", "sided", "inclination", "number_list",
 )  # fmt: skip
 
 
@@ -324,6 +324,24 @@ def _inclination(sec: Section, f: Field) -> tuple[Any, float]:
     return raw, angle
 
 
+def _number_list(sec: Section, f: Field) -> tuple[float, ...]:
+    """A list of at least two numbers (a table column), each with the field's unit and range."""
+    if f.key not in sec.data:
+        if f.required:
+            sec.fail(f"missing key {f.key!r}: expected a list of values in {f.unit}")
+        return () if f.default in (REQUIRED, OPTIONAL) else tuple(f.default)
+    raw = sec.data[f.key]
+    if not isinstance(raw, list | tuple) or len(raw) < 2:
+        sec.fail(f"expected a list of at least 2 values in {f.unit}, got {raw!r}", key=f.key)
+    sub = Section(dict(enumerate(raw)), sec.source, sec.lines, (*sec.path, f.key))
+    values = []
+    for i, v in enumerate(raw):
+        value = sub.quantity(i, f.unit)
+        f.check(value, lambda m, i=i: sub.fail(m, key=i), v)
+        values.append(value)
+    return tuple(values)
+
+
 def _ratio_angle(raw: Any) -> float | None:
     from fractions import Fraction
 
@@ -357,4 +375,5 @@ _READERS: dict[str, Callable[[Section, Field], Any]] = {
     "model": _model,
     "sided": _sided,
     "inclination": _inclination,
+    "number_list": _number_list,
 }
