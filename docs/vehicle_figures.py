@@ -1,0 +1,142 @@
+"""Figures and tables of docs/vehicles.md from the runs of docs/make_vehicle_figures.sh.
+
+Usage: ``python docs/vehicle_figures.py RUNS_FOLDER IMAGE_FOLDER``. Reads each vehicle's
+``*_seed``, ``*_r300`` and ``*_cs`` folders, writes ``vehicles_seed_lateral.png`` and
+``vehicles_r300.png`` (small PNGs) and prints the Markdown tables of the results section.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from matplotlib.figure import Figure
+
+from railexu.timeseries import TimeSeries
+
+VEHICLES = {
+    "hbbins_empty": "Hbbins empty",
+    "hbbins_loaded": "Hbbins loaded",
+    "manchester_coach_extended": "Manchester coach extended",
+}
+DPI = 90
+
+
+def _summary(folder: Path) -> dict:
+    return json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+
+
+def seed_table(runs: Path) -> str:
+    """The seed scenario: leading wheelset's motion, hunting verdict, largest Y/Q."""
+    rows = [
+        "| vehicle | ws1 max lateral [mm] | final amplitude [mm] | frequency [Hz] | hunting |"
+        " flange contact | max Y/Q (EN 14363) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, label in VEHICLES.items():
+        s = _summary(runs / f"{name}_seed")
+        ws1 = s["wheelsets"][0]
+        hunting = s["hunting"]
+        rows.append(
+            f"| {label} | {1e3 * ws1['max_abs_lateral_m']:.2f} |"
+            f" {1e3 * ws1['final_amplitude_m']:.2f} | {hunting['frequency_Hz']:.2f} |"
+            f" {hunting['verdict']} | {'yes' if s['flange_contact']['occurred'] else 'no'} |"
+            f" {s['max_Y_over_Q']['value_en14363']:.3f} |"
+        )
+    return "\n".join(rows)
+
+
+def curve_table(runs: Path) -> str:
+    """The R 300 m curve: quasi-static (50 %) and largest values in the circular curve."""
+    rows = [
+        "| vehicle | wheelset | Y outer q.s. / max [kN] | sum Y q.s. / max [kN] |"
+        " Y/Q outer q.s. / max | angle of attack q.s. [mrad] | lateral q.s. [mm] |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, label in VEHICLES.items():
+        s = _summary(runs / f"{name}_r300")
+        if "curving" not in s or not s["curving"]["curves"]:
+            rows.append(f"| {label} | run stopped: {s['status']['state']} | | | | | |")
+            continue
+        curve = s["curving"]["curves"][0]
+        for ws in curve["wheelsets"]:
+            y, sy, yq = ws["Y_outer_N"], ws["sum_Y_N"], ws["Y_over_Q_outer"]
+            rows.append(
+                f"| {label} | {ws['name']} | {y['quasi_static'] / 1e3:.1f} / {y['max'] / 1e3:.1f}"
+                f" | {sy['quasi_static'] / 1e3:.1f} / {sy['max'] / 1e3:.1f}"
+                f" | {yq['quasi_static']:.3f} / {yq['max']:.3f}"
+                f" | {1e3 * ws['angle_of_attack_rad']['quasi_static']:.2f}"
+                f" | {1e3 * ws['lateral_m']['quasi_static']:.1f} |"
+            )
+    return "\n".join(rows)
+
+
+def critical_speed_table(runs: Path) -> str:
+    """Linear critical speed (least damped mode crossing zero) and the nonlinear bisection."""
+    rows = [
+        "| vehicle | linear [m/s] (mode) | linear hunting [m/s] | equivalent conicity |"
+        " nonlinear bisection [m/s] |",
+        "|---|---|---|---|---|",
+    ]
+
+    def speed(v: float | None) -> str:
+        return "not in 10-60" if v is None else f"{v:.1f} ({3.6 * v:.0f} km/h)"
+
+    for name, label in VEHICLES.items():
+        cs = json.loads((runs / f"{name}_cs" / "critical_speed.json").read_text(encoding="utf-8"))
+        lin = cs.get("linear") or {}
+        rows.append(
+            f"| {label} | {speed(cs.get('linear_m_per_s'))} ({cs.get('linear_mode')})"
+            f" | {speed(lin.get('hunting_critical_speed_m_per_s'))}"
+            f" | {lin.get('equivalent_conicity', float('nan')):.3f}"
+            f" | {speed(cs.get('nonlinear_bisection_m_per_s'))} |"
+        )
+    return "\n".join(rows)
+
+
+def seed_figure(runs: Path) -> Figure:
+    """Lateral displacement of the leading wheelset in the seed scenario."""
+    fig = Figure(figsize=(7.0, 3.2))
+    ax = fig.add_subplot()
+    for name, label in VEHICLES.items():
+        ts = TimeSeries.from_csv(runs / f"{name}_seed" / "timeseries.csv")
+        ax.plot(ts.distance_m, 1e3 * ts["ws1_lateral_m"], lw=0.8, label=label)
+    ax.set_xlabel("distance [m]")
+    ax.set_ylabel("ws1 lateral [mm]")
+    ax.set_title("seed scenario: 10 m/s, 2 mm initial offset, straight track")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def curve_figure(runs: Path) -> Figure:
+    """Y/Q of the leading wheelset's outer (right) wheel and its lateral position in the curve."""
+    fig = Figure(figsize=(7.0, 4.4))
+    ax_q, ax_y = fig.subplots(2, 1, sharex=True)
+    for name, label in VEHICLES.items():
+        ts = TimeSeries.from_csv(runs / f"{name}_r300" / "timeseries.csv")
+        q = ts["ws1_right_Q_N"]
+        ax_q.plot(ts.distance_m, ts["ws1_right_Y_N"] / q, lw=0.8, label=label)
+        ax_y.plot(ts.distance_m, -1e3 * ts["ws1_lateral_m"], lw=0.8, label=label)
+    ax_q.set_ylabel("ws1 outer Y/Q [-]")
+    ax_y.set_ylabel("ws1 lateral, outwards [mm]")
+    ax_y.set_xlabel("distance [m]")
+    ax_q.set_title("R 300 m, 150 mm cant, 80 km/h (102 mm cant deficiency)")
+    for ax in (ax_q, ax_y):
+        ax.grid(True, lw=0.3)
+    ax_q.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def main(argv: list[str]) -> None:
+    runs, images = Path(argv[1]), Path(argv[2])
+    seed_figure(runs).savefig(images / "vehicles_seed_lateral.png", dpi=DPI)
+    curve_figure(runs).savefig(images / "vehicles_r300.png", dpi=DPI)
+    print(seed_table(runs), curve_table(runs), critical_speed_table(runs), sep="\n\n")
+
+
+if __name__ == "__main__":
+    main(sys.argv)
