@@ -52,6 +52,7 @@ from .alignment import (
     TAB_Y,
 )
 from .contact import kernel as K
+from .suspension_forces import suspension_forces, suspension_jacobian
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
@@ -122,6 +123,9 @@ class KernelData(NamedTuple):
     rail_index: np.ndarray  # elastic track: first of the 4 rail coordinates of each wheelset
     #                         (left y, z, right y, z) in the object's coordinates; empty: rigid
     rail_preload: np.ndarray  # elastic track: static vertical wheel loads (n_ws, 2) [N]
+    se_int: np.ndarray  # nonlinear suspension elements: integer rows (suspension_forces.SI_*)
+    se_real: np.ndarray  # their real rows (suspension_forces.SR_*)
+    se_table: np.ndarray  # their characteristic tables (n, 2)
 
 
 @numba.njit(inline="always", **_JIT)
@@ -622,6 +626,7 @@ def generalized_forces(q, qt, d, out, points, ws_force):
                 out[r + k] += gen[6 + k]
     for b in range(d.bs_int.shape[0]):
         _bump_stop(b, q, qt, d.qref, d.bs_int, d.bs_real, out)
+    suspension_forces(q, qt, d.qref, d.se_int, d.se_real, d.se_table, out)
     if d.curved:
         for j in range(d.body_slots.shape[0]):
             _frame_forces(j, q, qt, d, out)
@@ -703,6 +708,8 @@ def jacobian(q, qt, d, f_q, f_v, jac, points, ws_force):
                         jac[r + k, col] -= factor * (pert[r + k] - base[r + k]) / h
                 qp[col] = q[col]
                 qtp[col] = qt[col]
+    suspension_jacobian(q, qt, d.qref, d.se_int, d.se_real, d.se_table, f_q, f_v, jac, qp, qtp,
+                        base, pert)  # fmt: skip
     if d.curved:
         _frame_jacobian(q, qt, d, f_q, f_v, jac, qp, qtp, base, pert)
 

@@ -41,8 +41,9 @@ from .contact.quasistatic import free_rolling_spin_rate, press_wheelset
 from .errors import InputError
 from .forces import BS_NREAL, FR_SIZE, WL_SIZE, KernelData, generalized_forces, jacobian
 from .statics import StaticSolution, attachment_point, static_equilibrium
+from .suspension_forces import kernel_arrays, kernel_elements
 from .track import Track
-from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset
+from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset, linear_part
 
 #: Distance of the rearmost wheelset from the start of the track at t = 0 [m].
 START_MARGIN_M = 1.0
@@ -233,8 +234,15 @@ class VehicleModel:
             for name, n in self.rail_node.items()
         }
         rail_of = {n: name for name, n in self.rail_node.items()}
+        self.internal_ltg = (
+            np.asarray(self.mbs.systemData.GetNodeLTGODE2(self.internal_node), dtype=np.int64)
+            if self.internal_node is not None
+            else np.zeros(0, dtype=np.int64)
+        )
         self.object_ltg = np.concatenate(
-            [self.rail_ltg[rail_of[n]] if n in rail_of else self.ltg[self._name_of(n)]
+            [self.rail_ltg[rail_of[n]] if n in rail_of
+             else self.internal_ltg if n == self.internal_node
+             else self.ltg[self._name_of(n)]
              for n in self.ode_nodes]
         )  # fmt: skip
 
@@ -310,24 +318,64 @@ class VehicleModel:
         return local, self.centre[body] + self.rotation[body] @ local
 
     def _add_suspension(self) -> None:
-        """Linear springs and dampers as Exudyn connectors preloaded with their static forces;
-        bump stops are collected for the compiled force function."""
+        """Linear springs and dampers (and the linear parts of air springs, anti-roll bars) as
+        Exudyn connectors preloaded with their static forces; bump stops and the nonlinear
+        elements (:mod:`railexu.suspension_forces`) are collected for the compiled force
+        function, with one internal coordinate per series spring."""
         self.bump_stops: list[tuple] = []
         for el in self.vehicle.suspension:
-            if isinstance(el, SpringDamper):
-                self._add_spring_damper(el)
-            elif isinstance(el, TorsionSpring):
-                self._add_torsion_spring(el)
+            lin = linear_part(el)
+            if isinstance(lin, SpringDamper):
+                self._add_spring_damper(lin)
+            elif isinstance(lin, TorsionSpring):
+                self._add_torsion_spring(lin)
             elif isinstance(el, BumpStop):
                 a, b = el.bodies
                 la, ga = self._local_point(a, el.position_m)
                 lb, gb = self._local_point(b, el.position_m)
                 axis = "xyz".index(el.direction)
                 self.bump_stops.append((a, b, la, lb, axis, el, float(gb[axis] - ga[axis])))
-            else:
-                raise ModelError(
-                    f"suspension element {el.name}: type {type(el).__name__} is not simulated yet"
-                )
+        try:
+            self.kernel_elements = kernel_elements(self.vehicle, self.statics)
+        except InputError as exc:
+            raise ModelError(str(exc)) from exc
+        self._add_internal_coordinates()
+
+    def _add_internal_coordinates(self) -> None:
+        """One Exudyn ``NodeGenericODE2`` with the internal coordinates of the series springs
+        (Maxwell dampers, stick-slip friction, air-spring reservoirs) and their small masses
+        ``m_i = k_s / omega_i^2`` (:mod:`railexu.suspension_forces`)."""
+        from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2
+
+        masses = [e.internal_mass_kg() for e in self.kernel_elements if e.internal]
+        self.internal_node: int | None = None
+        if not masses:
+            return
+        n = len(masses)
+        self.internal_node = self.mbs.AddNode(
+            NodeGenericODE2(
+                referenceCoordinates=[0.0] * n,
+                initialCoordinates=[0.0] * n,
+                initialCoordinates_t=[0.0] * n,
+                numberOfODE2Coordinates=n,
+            )
+        )
+        self.mbs.AddObject(
+            ObjectGenericODE2(nodeNumbers=[self.internal_node], massMatrix=np.diag(masses))
+        )
+
+    def _suspension_kernel_arrays(self, slot: dict[int, int]):
+        """``(se_int, se_real, se_table)`` of the nonlinear elements for :class:`KernelData`;
+        the internal coordinates follow the bodies' and the rail masses' coordinates."""
+        local = {}
+        for e in self.kernel_elements:
+            a, b = e.bodies
+            la, ga = self._local_point(a, e.position_m)
+            lb, gb = self._local_point(b, e.position_m)
+            local[e.name] = ((la, lb), float(gb[e.axis] - ga[e.axis]))
+        body_slot = {name: slot[node] for name, node in self.node.items() if node in slot}
+        start = 6 * len(slot) + 4 * len(self.rail_node)
+        return kernel_arrays(self.kernel_elements, body_slot, local, start)
 
     def _add_spring_damper(self, el: SpringDamper) -> None:
         from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper
@@ -458,14 +506,18 @@ class VehicleModel:
         wheelset_names = [w.name for w in self.vehicle.wheelsets]
         ode_nodes = [self.node[n] for n in wheelset_names]
         extra = [n for a, b, *_ in self.bump_stops for n in (a, b)]
+        extra += [n for e in self.kernel_elements for n in e.bodies]
         if self.curved:
             extra += list(self.node)
         for name in extra:
             if self.node[name] not in ode_nodes:
                 ode_nodes.append(self.node[name])
         slot = {node: i for i, node in enumerate(ode_nodes)}
-        n_coords = 6 * len(ode_nodes) + 4 * len(self.rail_node)
+        n_internal = sum(e.internal for e in self.kernel_elements)
+        n_coords = 6 * len(ode_nodes) + 4 * len(self.rail_node) + n_internal
         ode_nodes += [self.rail_node[n] for n in wheelset_names if n in self.rail_node]
+        if self.internal_node is not None:
+            ode_nodes.append(self.internal_node)
         self.ode_nodes = ode_nodes
         self._out = np.zeros(n_coords)
         n_ws = len(wheelset_names)
@@ -529,6 +581,7 @@ class VehicleModel:
         rail_index = np.array(
             [6 * n_rigid + 4 * i for i in range(len(self.rail_node))], dtype=np.int64
         )
+        se_int, se_real, se_table = self._suspension_kernel_arrays(slot)
         frame = np.zeros(FR_SIZE)
         frame[:] = [self.frame_start_m, self.speed, -self.deceleration,
                     0.5 * self.alignment.cant_base_m, self.vehicle.gravity_m_per_s2]  # fmt: skip
@@ -549,6 +602,7 @@ class VehicleModel:
             ws_local=np.zeros((len(wheelset_names), WL_SIZE)),
             rail_index=rail_index,
             rail_preload=np.ascontiguousarray(self.statics.wheel_loads_N, dtype=float),
+            se_int=se_int, se_real=se_real, se_table=se_table,
         )  # fmt: skip
 
     def set_time(self, t: float) -> None:

@@ -16,6 +16,13 @@ external loads:
 - a tiny regularisation stiffness on every coordinate removes the mechanism of bodies held in
   only some directions (it carries no load when none acts in those directions).
 
+Nonlinear springs (force-deflection tables, ``docs/suspension.md``) enter with their secant
+stiffness about the table's force at zero deflection, ``F(d) = F(0) + k_sec d``, iterated until
+the secant agrees with the table at the static deflection (a fixed point, a few iterations for
+monotone tables); their static deflection is kept for the compiled elements. Air springs carry
+their load on their static stiffness ``k1``, anti-roll bars are torsion springs about x; dampers,
+friction and link elements carry no static load.
+
 Statically indeterminate arrangements (four springs under a body) share the load by stiffness,
 as the real vehicle does. The result gives the wheel loads for pressing the wheelsets onto the
 rails and the preload of every spring.
@@ -23,11 +30,11 @@ rails and the preload of every spring.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from .vehicle import SpringDamper, TorsionSpring, Vehicle
+from .vehicle import NonlinearSpring, SpringDamper, TorsionSpring, Vehicle, linear_part
 
 CONTACT_STIFFNESS_N_PER_M = 2.0e9
 HOLD_STIFFNESS = 1.0e9
@@ -58,11 +65,14 @@ class StaticSolution:
         element_forces: per spring-damper, the force it exerts on its **second** body [N]
             (track axes); per torsion spring, its moment on the second body about its axis [N m].
         total_weight_N: weight of the vehicle plus vertical external loads (downward positive).
+        static_deflections: per nonlinear spring, its deflection at rest [m] (the table's
+            force there is its static force).
     """
 
     wheel_loads_N: np.ndarray
     element_forces: dict
     total_weight_N: float
+    static_deflections: dict = field(default_factory=dict)  # nonlinear springs [m]
 
 
 def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> StaticSolution:
@@ -109,18 +119,23 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
     # suspension
     maps: dict = {}
     for el in vehicle.suspension:
-        if isinstance(el, SpringDamper):
+        lin = linear_part(el)
+        if isinstance(lin, SpringDamper):
             pa = attachment_point(vehicle, el.bodies[0], el.position_m)
             pb = attachment_point(vehicle, el.bodies[1], el.position_m)
             T = point_map(el.bodies[1], pb) - point_map(el.bodies[0], pa)
-            K += T.T @ np.diag(el.stiffness_N_per_m) @ T
+            K += T.T @ np.diag(lin.stiffness_N_per_m) @ T
             maps[el.name] = T
-        elif isinstance(el, TorsionSpring):
-            axis = "xyz".index(el.axis)
+        elif isinstance(lin, TorsionSpring):
+            axis = "xyz".index(lin.axis)
             T = rotation_map(el.bodies[1], axis) - rotation_map(el.bodies[0], axis)
-            K += el.stiffness_N_m_per_rad * np.outer(T, T)
+            K += lin.stiffness_N_m_per_rad * np.outer(T, T)
             maps[el.name] = T
-
+        elif isinstance(el, NonlinearSpring):
+            pa = attachment_point(vehicle, el.bodies[0], el.position_m)
+            pb = attachment_point(vehicle, el.bodies[1], el.position_m)
+            axis = "xyz".index(el.direction)
+            maps[el.name] = (point_map(el.bodies[1], pb) - point_map(el.bodies[0], pa))[axis]
     # wheels on rails
     contact_maps = []
     for w, ws in enumerate(vehicle.wheelsets):
@@ -136,18 +151,65 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
         contact_maps.append(per_side)
         K[6 * i + 4, 6 * i + 4] += HOLD_STIFFNESS  # spin (pitch of the wheelset)
 
-    u = np.linalg.solve(K, F)
+    nonlinear = [el for el in vehicle.suspension if isinstance(el, NonlinearSpring)]
+    secant = {el.name: _initial_secant(el) for el in nonlinear}
+    for _ in range(MAX_SECANT_ITERATIONS):
+        K_all, F_all = K.copy(), F.copy()
+        for el in nonlinear:
+            t = maps[el.name]
+            K_all += secant[el.name] * np.outer(t, t)
+            F_all -= _table_force(el, 0.0) * t  # the table's force at zero deflection
+        u = np.linalg.solve(K_all, F_all)
+        converged = True
+        for el in nonlinear:
+            d = float(maps[el.name] @ u)
+            f0, fd = _table_force(el, 0.0), _table_force(el, d)
+            linear = f0 + secant[el.name] * d
+            if abs(fd - linear) > SECANT_TOLERANCE * max(abs(fd), abs(f0), 1.0):
+                converged = False
+            if abs(d) > 1e-12:
+                secant[el.name] = max((fd - f0) / d, 0.0)
+        if converged:
+            break
     loads = np.array(
         [[-CONTACT_STIFFNESS_N_PER_M * (t @ u) for t in per_side] for per_side in contact_maps]
     )
     forces: dict = {}
+    deflections: dict = {}
     for el in vehicle.suspension:
-        if isinstance(el, SpringDamper):
-            forces[el.name] = -np.asarray(el.stiffness_N_per_m) * (maps[el.name] @ u)
-        elif isinstance(el, TorsionSpring):
-            forces[el.name] = -el.stiffness_N_m_per_rad * float(maps[el.name] @ u)
+        lin = linear_part(el)
+        if isinstance(lin, SpringDamper):
+            forces[el.name] = -np.asarray(lin.stiffness_N_per_m) * (maps[el.name] @ u)
+        elif isinstance(lin, TorsionSpring):
+            forces[el.name] = -lin.stiffness_N_m_per_rad * float(maps[el.name] @ u)
+        elif isinstance(el, NonlinearSpring):
+            d = float(maps[el.name] @ u)
+            deflections[el.name] = d
+            f = np.zeros(3)
+            f["xyz".index(el.direction)] = -_table_force(el, d)
+            forces[el.name] = f
     total = sum(masses) * g - sum(load.force_N[2] for load in vehicle.loads if load.static)
-    return StaticSolution(wheel_loads_N=loads, element_forces=forces, total_weight_N=total)
+    return StaticSolution(wheel_loads_N=loads, element_forces=forces, total_weight_N=total,
+                          static_deflections=deflections)  # fmt: skip
+
+
+#: Fixed-point iterations of the nonlinear springs' secant stiffness and their tolerance
+#: (relative force mismatch between the secant and the table at the static deflection).
+MAX_SECANT_ITERATIONS = 60
+SECANT_TOLERANCE = 1.0e-9
+
+
+def _table_force(el: NonlinearSpring, d: float) -> float:
+    """The element's force at deflection ``d``, as the compiled kernel computes it."""
+    from .suspension_forces import characteristic_table, table_force
+
+    return table_force(characteristic_table(el.deflection_m, el.force_N, el.interpolation), d)
+
+
+def _initial_secant(el: NonlinearSpring) -> float:
+    """Start of the secant iteration: the mean slope of the table [N/m]."""
+    x, f = el.deflection_m, el.force_N
+    return (f[-1] - f[0]) / (x[-1] - x[0])
 
 
 def static_axle_loads_N(vehicle: Vehicle, wheel_lateral_m: float = 0.75) -> dict[str, float]:

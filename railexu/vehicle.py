@@ -56,6 +56,7 @@ __all__ = [
     "UICLink",
     "Vehicle",
     "Wheelset",
+    "linear_part",
     "load_vehicle",
     "vehicle_from_dict",
 ]
@@ -284,6 +285,32 @@ SuspensionElement = (
     | AirSpring
     | AntiRollBar
 )
+
+
+def linear_part(el: SuspensionElement) -> SpringDamper | TorsionSpring | None:
+    """The linear connector part of an element (same name, bodies and point), or None.
+
+    Spring-dampers and torsion springs are their own; an air spring's static stiffness ``k1``
+    and shear stiffness and damping form a spring-damper (its reservoir branch is nonlinear
+    kernel work, :mod:`railexu.suspension_forces`); an anti-roll bar is a torsion spring about
+    x; a linear damper without series stiffness is a spring-damper with damping on its axis.
+    """
+    if isinstance(el, SpringDamper | TorsionSpring):
+        return el
+    if isinstance(el, AirSpring):
+        k = (*el.lateral_stiffness_N_per_m, el.vertical_stiffness_N_per_m)
+        c = (*el.lateral_damping_N_s_per_m, 0.0)
+        return SpringDamper(el.name, el.bodies, el.position_m, k, c, el.estimate)
+    if isinstance(el, AntiRollBar):
+        return TorsionSpring(el.name, el.bodies, el.position_m, "x", el.stiffness_N_m_per_rad,
+                             el.damping_N_m_s_per_rad, el.estimate)  # fmt: skip
+    linear_damper = isinstance(el, Damper) and el.damping_N_s_per_m is not None
+    if linear_damper and el.series_stiffness_N_per_m is None:
+        c = [0.0, 0.0, 0.0]
+        c[AXES.index(el.direction)] = el.damping_N_s_per_m
+        return SpringDamper(el.name, el.bodies, el.position_m, (0.0, 0.0, 0.0), tuple(c),
+                            el.estimate)  # fmt: skip
+    return None
 
 
 @dataclass(frozen=True)
