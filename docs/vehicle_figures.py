@@ -1,13 +1,14 @@
 """Figures and tables of docs/vehicles.md from the runs of docs/make_vehicle_figures.sh.
 
 Usage: ``python docs/vehicle_figures.py RUNS_FOLDER IMAGE_FOLDER``. Reads each vehicle's
-``*_seed``, ``*_r300`` and ``*_cs`` folders, writes ``vehicles_seed_lateral.png`` and
-``vehicles_r300.png`` (small PNGs) and prints the Markdown tables of the results section.
+``*_seed``, ``*_r300``, ``*_r600`` and ``*_cs`` folders, writes ``vehicles_seed_lateral.png`` and
+``vehicles_curves.png`` (small PNGs) and prints the Markdown tables of the results section.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -20,6 +21,7 @@ VEHICLES = {
     "hbbins_loaded": "Hbbins loaded",
     "manchester_coach_extended": "Manchester coach extended",
 }
+COACH = "manchester_coach_extended"
 DPI = 90
 
 
@@ -40,24 +42,26 @@ def seed_table(runs: Path) -> str:
         hunting = s["hunting"]
         rows.append(
             f"| {label} | {1e3 * ws1['max_abs_lateral_m']:.2f} |"
-            f" {1e3 * ws1['final_amplitude_m']:.2f} | {hunting['frequency_Hz']:.2f} |"
+            f" {1e3 * ws1['final_amplitude_m']:.2f} | {hunting['frequency_Hz'] or math.nan:.2f} |"
             f" {hunting['verdict']} | {'yes' if s['flange_contact']['occurred'] else 'no'} |"
             f" {s['max_Y_over_Q']['value_en14363']:.3f} |"
         )
     return "\n".join(rows)
 
 
-def curve_table(runs: Path) -> str:
-    """The R 300 m curve: quasi-static (50 %) and largest values in the circular curve."""
+def curve_table(runs: Path, curve_name: str) -> str:
+    """A curve: quasi-static (50 %) and largest values in the circular curve."""
     rows = [
         "| vehicle | wheelset | Y outer q.s. / max [kN] | sum Y q.s. / max [kN] |"
         " Y/Q outer q.s. / max | angle of attack q.s. [mrad] | lateral q.s. [mm] |",
         "|---|---|---|---|---|---|---|",
     ]
     for name, label in VEHICLES.items():
-        s = _summary(runs / f"{name}_r300")
-        if "curving" not in s or not s["curving"]["curves"]:
-            rows.append(f"| {label} | run stopped: {s['status']['state']} | | | | | |")
+        s = _summary(runs / f"{name}_{curve_name}")
+        state = s["status"]["state"]
+        if state not in ("completed", "completed_with_exceedances"):
+            where = f"{state} at {s['status']['distance_m']:.1f} m: {s['status']['reason']}"
+            rows.append(f"| {label} | run stopped, {where} | | | | | |")
             continue
         curve = s["curving"]["curves"][0]
         for ws in curve["wheelsets"]:
@@ -73,24 +77,30 @@ def curve_table(runs: Path) -> str:
 
 
 def critical_speed_table(runs: Path) -> str:
-    """Linear critical speed (least damped mode crossing zero) and the nonlinear bisection."""
+    """Linear critical speed (least damped mode crossing zero), nonlinear bisection and ramp."""
     rows = [
         "| vehicle | linear [m/s] (mode) | linear hunting [m/s] | equivalent conicity |"
-        " nonlinear bisection [m/s] |",
-        "|---|---|---|---|---|",
+        " nonlinear bisection [m/s] | ramp [m/s] |",
+        "|---|---|---|---|---|---|",
     ]
 
     def speed(v: float | None) -> str:
         return "not in 10-60" if v is None else f"{v:.1f} ({3.6 * v:.0f} km/h)"
 
-    for name, label in VEHICLES.items():
-        cs = json.loads((runs / f"{name}_cs" / "critical_speed.json").read_text(encoding="utf-8"))
+    folders = {**{n: f"{n}_cs" for n in VEHICLES}, "rigid": f"{COACH}_rigid_bushes_cs"}
+    labels = {**VEHICLES, "rigid": "coach, rigid yaw-damper bushes"}
+    for name, folder in folders.items():
+        path = runs / folder / "critical_speed.json"
+        if not path.is_file():
+            continue
+        cs = json.loads(path.read_text(encoding="utf-8"))
         lin = cs.get("linear") or {}
         rows.append(
-            f"| {label} | {speed(cs.get('linear_m_per_s'))} ({cs.get('linear_mode')})"
+            f"| {labels[name]} | {speed(cs.get('linear_m_per_s'))} ({cs.get('linear_mode')})"
             f" | {speed(lin.get('hunting_critical_speed_m_per_s'))}"
             f" | {lin.get('equivalent_conicity', float('nan')):.3f}"
-            f" | {speed(cs.get('nonlinear_bisection_m_per_s'))} |"
+            f" | {speed(cs.get('nonlinear_bisection_m_per_s'))}"
+            f" | {speed(cs.get('nonlinear_ramp_m_per_s'))} |"
         )
     return "\n".join(rows)
 
@@ -112,21 +122,19 @@ def seed_figure(runs: Path) -> Figure:
 
 
 def curve_figure(runs: Path) -> Figure:
-    """Y/Q of the leading wheelset's outer (right) wheel and its lateral position in the curve."""
-    fig = Figure(figsize=(7.0, 4.4))
-    ax_q, ax_y = fig.subplots(2, 1, sharex=True)
-    for name, label in VEHICLES.items():
-        ts = TimeSeries.from_csv(runs / f"{name}_r300" / "timeseries.csv")
-        q = ts["ws1_right_Q_N"]
-        ax_q.plot(ts.distance_m, ts["ws1_right_Y_N"] / q, lw=0.8, label=label)
-        ax_y.plot(ts.distance_m, -1e3 * ts["ws1_lateral_m"], lw=0.8, label=label)
-    ax_q.set_ylabel("ws1 outer Y/Q [-]")
-    ax_y.set_ylabel("ws1 lateral, outwards [mm]")
-    ax_y.set_xlabel("distance [m]")
-    ax_q.set_title("R 300 m, 150 mm cant, 80 km/h (102 mm cant deficiency)")
-    for ax in (ax_q, ax_y):
+    """Y/Q of the leading wheelset's outer (right) wheel in the two curves (left curves)."""
+    fig = Figure(figsize=(7.0, 4.6))
+    axes = fig.subplots(2, 1, sharex=True)
+    titles = {"r300": "R 300 m, 150 mm cant, 80 km/h", "r600": "R 600 m, 100 mm cant, 100 km/h"}
+    for ax, (curve, title) in zip(axes, titles.items(), strict=True):
+        for name, label in VEHICLES.items():
+            ts = TimeSeries.from_csv(runs / f"{name}_{curve}" / "timeseries.csv")
+            ax.plot(ts.distance_m, ts["ws1_right_Y_N"] / ts["ws1_right_Q_N"], lw=0.8, label=label)
+        ax.set_ylabel("ws1 outer Y/Q [-]")
+        ax.set_title(title, fontsize=9)
         ax.grid(True, lw=0.3)
-    ax_q.legend(fontsize=8)
+    axes[-1].set_xlabel("distance [m]")
+    axes[0].legend(fontsize=8)
     fig.tight_layout()
     return fig
 
@@ -134,8 +142,9 @@ def curve_figure(runs: Path) -> Figure:
 def main(argv: list[str]) -> None:
     runs, images = Path(argv[1]), Path(argv[2])
     seed_figure(runs).savefig(images / "vehicles_seed_lateral.png", dpi=DPI)
-    curve_figure(runs).savefig(images / "vehicles_r300.png", dpi=DPI)
-    print(seed_table(runs), curve_table(runs), critical_speed_table(runs), sep="\n\n")
+    curve_figure(runs).savefig(images / "vehicles_curves.png", dpi=DPI)
+    tables = (seed_table(runs), curve_table(runs, "r300"), curve_table(runs, "r600"))
+    print(*tables, critical_speed_table(runs), sep="\n\n")
 
 
 if __name__ == "__main__":
