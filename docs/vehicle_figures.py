@@ -2,7 +2,7 @@
 
 Usage: ``python docs/vehicle_figures.py RUNS_FOLDER IMAGE_FOLDER``. Reads each vehicle's
 ``*_seed``, ``*_r300``, ``*_r600`` and ``*_cs`` folders, writes ``vehicles_seed_lateral.png`` and
-``vehicles_curves.png`` (small PNGs) and prints the Markdown tables of the results section.
+``vehicles_curves.png`` (R 600 m; small PNGs) and prints the Markdown tables of the results section.
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ def _summary(folder: Path) -> dict:
 def seed_table(runs: Path) -> str:
     """The seed scenario: leading wheelset's motion, hunting verdict, largest Y/Q."""
     rows = [
-        "| vehicle | ws1 max lateral [mm] | final amplitude [mm] | frequency [Hz] | hunting |"
-        " flange contact | max Y/Q (EN 14363) |",
+        "| vehicle | ws1 max lateral after 15 m [mm] | final amplitude [mm] | frequency [Hz] |"
+        " hunting | flange contact | max Y/Q (EN 14363) |",
         "|---|---|---|---|---|---|---|",
     ]
     for name, label in VEHICLES.items():
@@ -85,23 +85,30 @@ def critical_speed_table(runs: Path) -> str:
     ]
 
     def speed(v: float | None) -> str:
-        return "not in 10-60" if v is None else f"{v:.1f} ({3.6 * v:.0f} km/h)"
+        return "none in range" if v is None else f"{v:.1f} ({3.6 * v:.0f} km/h)"
 
-    folders = {**{n: f"{n}_cs" for n in VEHICLES}, "rigid": f"{COACH}_rigid_bushes_cs"}
-    labels = {**VEHICLES, "rigid": "coach, rigid yaw-damper bushes"}
+    folders = {
+        **{n: f"{n}_cs" for n in VEHICLES},
+        "rigid": f"{COACH}_rigid_bushes_cs",
+    }
+    labels = {
+        **VEHICLES,
+        "rigid": "coach, rigid yaw-damper bushes",
+    }
     for name, folder in folders.items():
         path = runs / folder / "critical_speed.json"
         if not path.is_file():
             continue
         cs = json.loads(path.read_text(encoding="utf-8"))
-        lin = cs.get("linear") or {}
-        rows.append(
-            f"| {labels[name]} | {speed(cs.get('linear_m_per_s'))} ({cs.get('linear_mode')})"
-            f" | {speed(lin.get('hunting_critical_speed_m_per_s'))}"
-            f" | {lin.get('equivalent_conicity', float('nan')):.3f}"
-            f" | {speed(cs.get('nonlinear_bisection_m_per_s'))}"
-            f" | {speed(cs.get('nonlinear_ramp_m_per_s'))} |"
-        )
+        lin = cs.get("linear")
+        linear = "-" if not lin else f"{speed(cs.get('linear_m_per_s'))} ({cs.get('linear_mode')})"
+        hunting = "-" if not lin else speed(lin.get("hunting_critical_speed_m_per_s"))
+        conicity = "-" if not lin else f"{lin['equivalent_conicity']:.3f}"
+        methods = cs["settings"]["methods"]
+        bisection = speed(cs["nonlinear_bisection_m_per_s"]) if "bisection" in methods else "-"
+        ramp = speed(cs["nonlinear_ramp_m_per_s"]) if "ramp" in methods else "-"
+        cells = (labels[name], linear, hunting, conicity, bisection, ramp)
+        rows.append("| " + " | ".join(cells) + " |")
     return "\n".join(rows)
 
 
@@ -122,21 +129,42 @@ def seed_figure(runs: Path) -> Figure:
 
 
 def curve_figure(runs: Path) -> Figure:
-    """Y/Q of the leading wheelset's outer (right) wheel in the two curves (left curves)."""
+    """The R 600 m curve (left): Y/Q of the leading wheelset's outer (right) wheel and its angle
+    of attack (positive pointing outwards)."""
     fig = Figure(figsize=(7.0, 4.6))
-    axes = fig.subplots(2, 1, sharex=True)
-    titles = {"r300": "R 300 m, 150 mm cant, 80 km/h", "r600": "R 600 m, 100 mm cant, 100 km/h"}
-    for ax, (curve, title) in zip(axes, titles.items(), strict=True):
-        for name, label in VEHICLES.items():
-            ts = TimeSeries.from_csv(runs / f"{name}_{curve}" / "timeseries.csv")
-            ax.plot(ts.distance_m, ts["ws1_right_Y_N"] / ts["ws1_right_Q_N"], lw=0.8, label=label)
-        ax.set_ylabel("ws1 outer Y/Q [-]")
-        ax.set_title(title, fontsize=9)
+    ax_q, ax_a = fig.subplots(2, 1, sharex=True)
+    for name, label in VEHICLES.items():
+        ts = TimeSeries.from_csv(runs / f"{name}_r600" / "timeseries.csv")
+        ax_q.plot(ts.distance_m, ts["ws1_right_Y_N"] / ts["ws1_right_Q_N"], lw=0.8, label=label)
+        ax_a.plot(ts.distance_m, -1e3 * ts["ws1_yaw_rad"], lw=0.8, label=label)
+    ax_q.set_ylabel("ws1 outer Y/Q [-]")
+    ax_a.set_ylabel("ws1 angle of attack [mrad]")
+    ax_a.set_xlabel("distance [m]")
+    ax_q.set_title("R 600 m, 100 mm cant, 100 km/h (97 mm cant deficiency)", fontsize=9)
+    for ax in (ax_q, ax_a):
         ax.grid(True, lw=0.3)
-    axes[-1].set_xlabel("distance [m]")
-    axes[0].legend(fontsize=8)
+    ax_q.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def yaw_damper_table(runs: Path) -> str:
+    """Damping ratio of the coach's least damped wheelset-hunting mode over speed, with the
+    yaw dampers' 6 MN/m bushes and with rigid ones (linear analysis)."""
+    cases = {"6 MN/m bushes": f"{COACH}_cs", "rigid bushes": f"{COACH}_rigid_bushes_cs"}
+    data = {}
+    for label, folder in cases.items():
+        path = runs / folder / "critical_speed.json"
+        lin = json.loads(path.read_text(encoding="utf-8"))["linear"]
+        data[label] = (lin["speeds_m_per_s"], lin["modes"]["wheelset hunting"]["damping_ratio"])
+    speeds = data["6 MN/m bushes"][0]
+    picks = [i for i, v in enumerate(speeds) if i % 5 == 0 and v >= 40.0]
+    rows = ["| speed [m/s] | " + " | ".join(f"{speeds[i]:.0f}" for i in picks) + " |"]
+    rows.append("|---|" + "---|" * len(picks))
+    for label, (_, zeta) in data.items():
+        cells = " | ".join("-" if zeta[i] is None else f"{zeta[i]:.3f}" for i in picks)
+        rows.append(f"| {label} | {cells} |")
+    return "\n".join(rows)
 
 
 def main(argv: list[str]) -> None:
@@ -144,7 +172,7 @@ def main(argv: list[str]) -> None:
     seed_figure(runs).savefig(images / "vehicles_seed_lateral.png", dpi=DPI)
     curve_figure(runs).savefig(images / "vehicles_curves.png", dpi=DPI)
     tables = (seed_table(runs), curve_table(runs, "r300"), curve_table(runs, "r600"))
-    print(*tables, critical_speed_table(runs), sep="\n\n")
+    print(*tables, critical_speed_table(runs), yaw_damper_table(runs), sep="\n\n")
 
 
 if __name__ == "__main__":
