@@ -98,10 +98,11 @@ def test_the_vehicles_ship_by_name():
 
 @pytest.mark.parametrize("name", ["hbbins_empty", "hbbins_loaded"])
 def test_wagon_masses_and_axle_loads_are_the_published_ones(name):
-    """Tare 16.3 t; loaded to load limit S, 16.3 + 28.5 t (exact); two equal axle loads of half
-    the weight (force balance), within the 22.5 t maximum; wheelbase and wheels as published."""
+    """Tare 16.3 t; loaded to the maximum payload, 16.3 + 28.5 t (exact); two equal axle loads of
+    half the weight (force balance), within the 22.5 t maximum; wheelbase and wheels as
+    published."""
     vehicle = load_vehicle(name)
-    total = WAGON["tare_kg"] + (WAGON["load_limit_s_kg"] if name.endswith("loaded") else 0)
+    total = WAGON["tare_kg"] + (WAGON["max_payload_kg"] if name.endswith("loaded") else 0)
     assert vehicle.total_mass_kg == total
     loads = static_axle_loads_N(vehicle)
     for ws in vehicle.wheelsets:
@@ -192,7 +193,7 @@ def test_wagon_empty_and_loaded_differ_only_in_body_and_operating_point():
     spring tables, links and stops; 28.5 t more; the springs 44.9 mm further down (published
     characteristic); and nearly the same bounce frequency (the helper stage's purpose)."""
     empty, loaded = load_vehicle("hbbins_empty"), load_vehicle("hbbins_loaded")
-    assert loaded.total_mass_kg - empty.total_mass_kg == WAGON["load_limit_s_kg"]
+    assert loaded.total_mass_kg - empty.total_mass_kg == WAGON["max_payload_kg"]
     for a, b in zip(empty.wheelsets, loaded.wheelsets, strict=True):
         assert (a.mass_kg, a.inertia_kg_m2, a.position_m) == (b.mass_kg, b.inertia_kg_m2,
                                                               b.position_m)  # fmt: skip
