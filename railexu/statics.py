@@ -16,12 +16,11 @@ external loads:
 - a tiny regularisation stiffness on every coordinate removes the mechanism of bodies held in
   only some directions (it carries no load when none acts in those directions).
 
-Nonlinear springs (force-deflection tables, ``docs/suspension.md``) enter with their secant
-stiffness about the table's force at zero deflection, ``F(d) = F(0) + k_sec d``, iterated until
-the secant agrees with the table at the static deflection (a fixed point, a few iterations for
-monotone tables); their static deflection is kept for the compiled elements. Air springs carry
-their load on their static stiffness ``k1``, anti-roll bars are torsion springs about x; dampers,
-friction and link elements carry no static load.
+Nonlinear springs (force-deflection tables, ``docs/suspension.md``) make the statics nonlinear:
+Newton's method linearises each about its current deflection with its tangent stiffness (a few
+iterations for monotone tables); their static deflection is kept for the compiled elements.
+Air springs carry their load on their static stiffness ``k1``, anti-roll bars are torsion
+springs about x; dampers, friction and link elements carry no static load.
 
 Statically indeterminate arrangements (four springs under a body) share the load by stiffness,
 as the real vehicle does. The result gives the wheel loads for pressing the wheelsets onto the
@@ -152,25 +151,7 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
         K[6 * i + 4, 6 * i + 4] += HOLD_STIFFNESS  # spin (pitch of the wheelset)
 
     nonlinear = [el for el in vehicle.suspension if isinstance(el, NonlinearSpring)]
-    secant = {el.name: _initial_secant(el) for el in nonlinear}
-    for _ in range(MAX_SECANT_ITERATIONS):
-        K_all, F_all = K.copy(), F.copy()
-        for el in nonlinear:
-            t = maps[el.name]
-            K_all += secant[el.name] * np.outer(t, t)
-            F_all -= _table_force(el, 0.0) * t  # the table's force at zero deflection
-        u = np.linalg.solve(K_all, F_all)
-        converged = True
-        for el in nonlinear:
-            d = float(maps[el.name] @ u)
-            f0, fd = _table_force(el, 0.0), _table_force(el, d)
-            linear = f0 + secant[el.name] * d
-            if abs(fd - linear) > SECANT_TOLERANCE * max(abs(fd), abs(f0), 1.0):
-                converged = False
-            if abs(d) > 1e-12:
-                secant[el.name] = max((fd - f0) / d, 0.0)
-        if converged:
-            break
+    u = _solve_with_nonlinear_springs(K, F, nonlinear, maps)
     loads = np.array(
         [[-CONTACT_STIFFNESS_N_PER_M * (t @ u) for t in per_side] for per_side in contact_maps]
     )
@@ -193,10 +174,37 @@ def static_equilibrium(vehicle: Vehicle, wheel_lateral_m: list[float]) -> Static
                           static_deflections=deflections)  # fmt: skip
 
 
-#: Fixed-point iterations of the nonlinear springs' secant stiffness and their tolerance
-#: (relative force mismatch between the secant and the table at the static deflection).
-MAX_SECANT_ITERATIONS = 60
-SECANT_TOLERANCE = 1.0e-9
+#: Newton iterations of the statics with nonlinear springs and their tolerance (relative force
+#: mismatch between the linearisation and the table at the static deflection).
+MAX_NEWTON_ITERATIONS = 50
+NEWTON_TOLERANCE = 1.0e-10
+#: Floor of a nonlinear spring's tangent stiffness in the Newton iteration, as a share of its
+#: table's mean slope (a flat stretch, e.g. free play, would leave the body unsupported).
+TANGENT_FLOOR = 1.0e-3
+
+
+def _solve_with_nonlinear_springs(K, F, nonlinear, maps) -> np.ndarray:
+    """Displacements of the statics: Newton's method on the nonlinear springs' tables (each
+    linearised about its current deflection ``d_i``, ``F(d) = F(d_i) + k_t (d - d_i)``); one
+    linear solve when there are none."""
+    d = {el.name: 0.0 for el in nonlinear}
+    for _ in range(MAX_NEWTON_ITERATIONS):
+        K_all, F_all = K.copy(), F.copy()
+        for el in nonlinear:
+            t, di = maps[el.name], d[el.name]
+            k_t = max(_tangent(el, di), TANGENT_FLOOR * _mean_slope(el))
+            K_all += k_t * np.outer(t, t)
+            F_all -= (_table_force(el, di) - k_t * di) * t
+        u = np.linalg.solve(K_all, F_all)
+        change = 0.0
+        for el in nonlinear:
+            new = float(maps[el.name] @ u)
+            scale = max(abs(_table_force(el, new)), abs(_table_force(el, d[el.name])), 1.0)
+            change = max(change, abs(_table_force(el, new) - _table_force(el, d[el.name])) / scale)
+            d[el.name] = new
+        if change < NEWTON_TOLERANCE:
+            break
+    return u
 
 
 def _table_force(el: NonlinearSpring, d: float) -> float:
@@ -206,17 +214,12 @@ def _table_force(el: NonlinearSpring, d: float) -> float:
     return table_force(characteristic_table(el.deflection_m, el.force_N, el.interpolation), d)
 
 
-def _initial_secant(el: NonlinearSpring) -> float:
-    """Start of the secant iteration: the mean slope of the table [N/m]."""
+def _mean_slope(el: NonlinearSpring) -> float:
+    """The mean slope of the table [N/m]."""
     x, f = el.deflection_m, el.force_N
     return (f[-1] - f[0]) / (x[-1] - x[0])
 
 
-def static_axle_loads_N(vehicle: Vehicle, wheel_lateral_m: float = 0.75) -> dict[str, float]:
-    """Static load of each wheelset on the rails [N] (sum of its two wheel loads) from
-    :func:`static_equilibrium`, with the contact points ``wheel_lateral_m`` from the wheelset
-    centre (0.75 m: the tape circles of a standard-gauge wheelset)."""
-    solution = static_equilibrium(vehicle, [wheel_lateral_m] * len(vehicle.wheelsets))
-    return {
-        ws.name: float(solution.wheel_loads_N[i].sum()) for i, ws in enumerate(vehicle.wheelsets)
-    }
+def _tangent(el: NonlinearSpring, d: float, h: float = 1.0e-7) -> float:
+    """The table's slope at ``d`` [N/m] (central difference over 0.2 um)."""
+    return (_table_force(el, d + h) - _table_force(el, d - h)) / (2.0 * h)

@@ -18,15 +18,24 @@ point from the first along the axis, measured from the nominal (static) geometry
 
       m_i u'' = k_s (d - u) - g(u') - c_v u'.
 
-  This is a Maxwell element (damper with its bush stiffness; air-spring reservoir) or, with the
-  friction law, a spring in series with a slider (stick-slip, elastic-plastic friction). The
+  This is a Maxwell element (damper with its bush stiffness; air-spring reservoir). A slider
+  behind a stick stiffness (stick-slip friction, the UIC link's friction) is elastic-perfectly-
+  plastic instead: the internal coordinate is the slider's position and it flows only when the
+  spring's force exceeds the friction force, at the rate of the overstress (viscoplastic,
+  Perzyna's regularisation),
+
+      m_i u'' = sign(f_s) max(0, |f_s| - F_c) - eta u',   f_s = k_s (d - u),
+
+  with ``eta = F_c / (10^4 v_s)``: it sticks exactly (no creep) and slides at a force 1 % above
+  ``F_c`` at 0.1 m/s for the default ``v_s`` = 1 mm/s. (A tanh law behind a spring saturates and
+  stalls Newton's method; the overstress flow is piecewise linear and does not.) The
   small mass ``m_i = k_s / omega_i^2`` keeps the coordinate an Exudyn ODE2 coordinate (the
   linearised system of :mod:`railexu.stability.linear` needs a regular mass matrix), with
   ``omega_i = max(2 pi 1 kHz, 20 k_s / c_ref)`` far above the vehicle's frequencies; ``c_ref`` is
-  the law's least slope (a damper's coefficient), or for friction and flat tables a tenth of its
-  largest force per m/s. ``c_v = max(0, 2 k_s / omega_i - min g')`` makes the internal mode at
-  least critically damped: nothing for a damper (its slope exceeds ``2 k_s / omega_i`` tenfold),
-  for friction a viscous force of at most 1 % of ``F_c`` per m/s of sliding velocity.
+  the law's least slope (a damper's coefficient), ``eta`` for a slider, or for flat tables a
+  tenth of the largest force per m/s. ``c_v = max(0, 2 k_s / omega_i - min g')`` makes the
+  internal mode at least critically damped: nothing for a damper (its slope exceeds
+  ``2 k_s / omega_i`` tenfold); for a slider ``c_v = eta``.
 
 The kernel rows are built by :func:`kernel_arrays`; :func:`suspension_forces` adds all
 elements' generalized forces and :func:`suspension_jacobian` their finite-difference Jacobian;
@@ -72,6 +81,12 @@ SI_NINT = 9
 LAW_NONE = 0
 LAW_TABLE = 1
 LAW_FRICTION = 2
+LAW_PLASTIC = 3  # a slider behind a series spring: elastic-perfectly-plastic (viscoplastic flow)
+
+#: Viscoplastic regularisation of a slider behind a stick stiffness: it flows at
+#: ``(|f| - F_c) / eta`` with ``eta = F_c / (PLASTIC_FLOW_FACTOR v_s)``; with the default slip
+#: velocity ``v_s`` = 1 mm/s the force is 1 % above ``F_c`` at 0.1 m/s of sliding.
+PLASTIC_FLOW_FACTOR = 1.0e4
 
 #: Columns of a kernel element's real row.
 SR_P0 = 0  # local attachment point on body 0 (3)
@@ -207,7 +222,12 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     if iu >= 0:
         fs = sr[e, SR_KS] * (d - q[iu])
         ut = qt[iu]
-        out[iu] += fs - _law(e, si, sr, tab, ut) - sr[e, SR_CV] * ut
+        if si[e, SI_LAW] == LAW_PLASTIC:
+            over = abs(fs) - sr[e, SR_FC]
+            flow = math.copysign(over, fs) if over > 0.0 else 0.0
+            out[iu] += flow - sr[e, SR_CV] * ut
+        else:
+            out[iu] += fs - _law(e, si, sr, tab, ut) - sr[e, SR_CV] * ut
         f += fs
     else:
         f += _law(e, si, sr, tab, v)
@@ -298,11 +318,14 @@ class KernelElement:
         return 0.0
 
     def reference_damping_N_s_per_m(self) -> float:
-        """``c_ref`` of the internal coordinate: the law's least slope, or for friction and
-        flat tables a tenth of its largest force per m/s."""
+        """``c_ref`` of the internal coordinate: the law's least slope; for a slider behind a
+        spring its flow viscosity ``eta``; for flat tables a tenth of the largest force per
+        m/s."""
         c_min = self.minimum_law_slope()
         if c_min > 0.0:
             return c_min
+        if self.law == LAW_PLASTIC:
+            return self.friction_force_N / (PLASTIC_FLOW_FACTOR * self.slip_velocity_m_per_s)
         if self.law == LAW_TABLE and self.law_table is not None:
             return 0.1 * float(np.max(np.abs(self.law_table[:, 1])))
         return 0.1 * self.friction_force_N
@@ -321,7 +344,9 @@ class KernelElement:
 
     def internal_damping_N_s_per_m(self) -> float:
         """``c_v = max(0, 2 k_s / omega_i - min g')``: the internal mode at least critically
-        damped."""
+        damped; for a slider behind a spring its flow viscosity ``eta``."""
+        if self.law == LAW_PLASTIC:
+            return self.reference_damping_N_s_per_m()
         critical = 2.0 * self.series_stiffness_N_per_m / self.internal_omega_rad_per_s()
         return max(0.0, critical - self.minimum_law_slope())
 
@@ -450,8 +475,12 @@ def link_vertical_load_N(el: UICLink, vehicle: Vehicle, statics: StaticSolution)
     return total
 
 
-def _friction_or_none(force_N: float) -> int:
-    return LAW_FRICTION if force_N > 0.0 else LAW_NONE
+def _friction_law(force_N: float, stick_stiffness: float | None) -> int:
+    """Regularised Coulomb friction alone; a slider behind a stick stiffness; none without a
+    friction force."""
+    if force_N <= 0.0:
+        return LAW_NONE
+    return LAW_PLASTIC if stick_stiffness else LAW_FRICTION
 
 
 def kernel_elements(vehicle: Vehicle, statics: StaticSolution) -> list[KernelElement]:
@@ -476,7 +505,8 @@ def kernel_elements(vehicle: Vehicle, statics: StaticSolution) -> list[KernelEle
             ))  # fmt: skip
         elif isinstance(el, Friction):
             out.append(KernelElement(
-                el.name, axis="xyz".index(el.direction), law=LAW_FRICTION,
+                el.name, axis="xyz".index(el.direction),
+                law=_friction_law(el.friction_force_N, el.stick_stiffness_N_per_m),
                 friction_force_N=el.friction_force_N,
                 slip_velocity_m_per_s=el.slip_velocity_m_per_s,
                 series_stiffness_N_per_m=el.stick_stiffness_N_per_m or 0.0, **base,
@@ -488,7 +518,8 @@ def kernel_elements(vehicle: Vehicle, statics: StaticSolution) -> list[KernelEle
                 out.append(KernelElement(
                     f"{el.name}_{'xy'[axis]}", axis=axis,
                     parallel_stiffness_N_per_m=w / el.pendulum_length_m[axis],
-                    law=_friction_or_none(f_c), friction_force_N=f_c,
+                    law=_friction_law(f_c, el.stick_stiffness_N_per_m[axis]),
+                    friction_force_N=f_c,
                     slip_velocity_m_per_s=el.slip_velocity_m_per_s,
                     series_stiffness_N_per_m=el.stick_stiffness_N_per_m[axis], **base,
                 ))  # fmt: skip

@@ -229,8 +229,9 @@ ELEMENTS = {
             Field("direction", "direction of sliding (track axes)", "text", choices=AXES),
             Field("friction_force", "sliding (Coulomb) friction force", unit="N",
                   positive=True, maximum=1e7),
-            Field("slip_velocity", "regularisation: F = F_c tanh(v / slip_velocity)",
-                  unit="m/s", default=1.0e-3, positive=True, maximum=1.0),
+            Field("slip_velocity", "regularisation: F = F_c tanh(v / slip_velocity); with a "
+                  "stick stiffness the slider flows at (|f| - F_c) / eta, eta = F_c / (1e4 "
+                  "slip_velocity)", unit="m/s", default=1.0e-3, positive=True, maximum=1.0),
             Field("stick_stiffness", "stiffness of the contact before sliding (stick-slip "
                   "model: spring in series with the slider, one internal coordinate); absent: "
                   "regularised Coulomb friction only", unit="N/m", default=OPTIONAL,
@@ -257,7 +258,8 @@ ELEMENTS = {
                   "static load of the elements with vertical stiffness between the same "
                   "bodies at the same point", unit="N", default=OPTIONAL, positive=True,
                   maximum=1e7),
-            Field("slip_velocity", "regularisation of the sliding friction", unit="m/s",
+            Field("slip_velocity", "regularisation of the sliding: the links slide at "
+                  "(|f| - mu W) / eta, eta = mu W / (1e4 slip_velocity)", unit="m/s",
                   default=1.0e-3, positive=True, maximum=1.0),
             _ESTIMATE, _NOTES,
         ),
@@ -285,7 +287,7 @@ ELEMENTS = {
             _ESTIMATE, _NOTES,
         ),
         "An air spring with its reservoir, vertical: k1 in parallel with k2 in series with c "
-        "(a linear model in the manner of Berg 1999 / Nishimura); it carries its static load.",
+        "(the linear reservoir model; Berg 1999 adds friction); it carries its static load.",
     ),
     "anti_roll_bar": Schema(
         "anti_roll_bar",

@@ -43,6 +43,7 @@ LAYERS: dict[str, int] = {
     "railexu.model": 5,
     "railexu.forces": 5,
     "railexu.statics": 5,
+    "railexu.suspension_forces": 5,
     "railexu.track_model": 4,
     "railexu.timeseries": 6,
     "railexu.curving": 6,
