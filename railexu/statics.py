@@ -223,3 +223,13 @@ def _mean_slope(el: NonlinearSpring) -> float:
 def _tangent(el: NonlinearSpring, d: float, h: float = 1.0e-7) -> float:
     """The table's slope at ``d`` [N/m] (central difference over 0.2 um)."""
     return (_table_force(el, d + h) - _table_force(el, d - h)) / (2.0 * h)
+
+
+def static_axle_loads_N(vehicle: Vehicle, wheel_lateral_m: float = 0.75) -> dict[str, float]:
+    """Static load of each wheelset on the rails [N] (sum of its two wheel loads) from
+    :func:`static_equilibrium`, with the contact points ``wheel_lateral_m`` from the wheelset
+    centre (0.75 m: the tape circles of a standard-gauge wheelset)."""
+    solution = static_equilibrium(vehicle, [wheel_lateral_m] * len(vehicle.wheelsets))
+    return {
+        ws.name: float(solution.wheel_loads_N[i].sum()) for i, ws in enumerate(vehicle.wheelsets)
+    }
