@@ -1,17 +1,18 @@
 """How a study scales: 16 runs one by one in this process against 2 local worker processes.
 
-The study: the EU07 from the seed's 2 mm offset on 60 m of ideal straight track at 16 speeds
-from 10 to 25 m/s (no plots). Printed:
+The study: the seed scenario (the EU07 from a 2 mm offset on 150 m of ideal straight track) at
+16 speeds from 10 to 25 m/s (no plots). Printed:
 
 - the 16 runs one after the other in this process (``workers=0``; this process has run one case
   before, so its imports and compiled kernels are loaded, as a long session's would be);
 - the same study on 2 local worker processes (started for the study: their start-up, imports and
   kernel loading are in the time), and the speed-up (issue 11's budget: at least 1.8x on 2
   cores);
-- the median time of a case inside the workers against the same case as a function call in this
-  process (workers stay warm: a case must not cost more there).
+- the median time of a case inside the workers against the same case as function calls in this
+  process (``run`` and ``write_run`` without plots, as a case does; workers stay warm: a case
+  must not cost more there).
 
-Run: ``python benchmarks/study.py`` (about a minute on 2 cores; a machine with other load gives
+Run: ``python benchmarks/study.py`` (about three minutes on 2 cores; a machine with other load gives
 smaller speed-ups).
 """
 
@@ -30,7 +31,7 @@ name: scaling benchmark
 analysis: run
 base:
   vehicle: {ROOT / "vehicles" / "eu07.yaml"}
-  run: {{distance: 60 m, initial_lateral: 2 mm}}
+  run: {{distance: 150 m, initial_lateral: 2 mm}}
 vary:
   parameters:
     run.speed: {{from: 10 m/s, to: 25 m/s, step: 1 m/s}}
@@ -40,7 +41,7 @@ collect:
 
 
 def main() -> None:
-    from railexu import RunSettings, load_vehicle, run
+    from railexu import RunSettings, load_vehicle, run, write_run
     from railexu.study import load_study, run_study
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -49,10 +50,10 @@ def main() -> None:
         study = load_study(path)
         n = len(study.cases())
         vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
-        settings = RunSettings(speed_m_per_s=17.0, distance_m=60.0, initial_lateral_m=0.002)
-        run(vehicle, None, settings)  # imports, compiled kernels
+        settings = RunSettings(speed_m_per_s=17.0, distance_m=150.0, initial_lateral_m=0.002)
+        write_run(run(vehicle, None, settings), Path(tmp) / "warm", plots=False)  # imports, kernels
         t0 = time.perf_counter()
-        run(vehicle, None, settings)
+        write_run(run(vehicle, None, settings), Path(tmp) / "call", plots=False)
         call = time.perf_counter() - t0
 
         t0 = time.perf_counter()
@@ -63,7 +64,7 @@ def main() -> None:
         parallel = time.perf_counter() - t0
         in_worker = statistics.median(float(r["run_time_s"]) for r in result.rows)
 
-    print(f"study of {n} runs (EU07, 60 m, 10-25 m/s)")
+    print(f"study of {n} runs (the seed scenario, EU07, 150 m, at 10-25 m/s)")
     print(f"  one by one in this process: {serial:6.1f} s")
     print(f"  2 worker processes:         {parallel:6.1f} s   speed-up {serial / parallel:4.2f}x")
     print(f"  a case at 17 m/s as a function call: {call:5.2f} s; median case in a worker: "
