@@ -433,6 +433,11 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     dg_prev = 0.0
     k_prev1 = -1
     k_prev2 = -1
+    # each ordinary minimum is seen by two rules below (the sampled values, and the slope
+    # turning upwards in its cell); the second refinement of the same minimum is skipped: the
+    # one refined first is kept either way (_add_candidate drops duplicates)
+    value_s = np.nan  # minimum refined by the value rule in this iteration
+    cell_s = np.nan  # minimum refined by the slope rule in the previous iteration
     # the scanned gaps are kept for the humps between minima below
     n_scan = (k_hi - k_lo) // stride + 2
     scan_g = np.empty(n_scan)
@@ -447,7 +452,12 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
         elif j_scan < n_scan:
             scan_g[j_scan] = g
             j_scan += 1
-        if k_prev1 >= 0 and g_prev1 < 1.0e8 and g_prev1 <= g_prev2 and g_prev1 < g:
+        value_s = np.nan
+        # the slope rule found this minimum in the previous cell, and the slope rises through
+        # the rest of the bracket: the same minimum
+        seen = k_prev2 >= 0 and dg > 0.0 and ws0 + k_prev2 * wstep <= cell_s
+        seen = seen and cell_s <= ws0 + k_prev1 * wstep
+        if k_prev1 >= 0 and g_prev1 < 1.0e8 and g_prev1 <= g_prev2 and g_prev1 < g and not seen:
             # local minimum at k_prev1, bracketed by its neighbours
             sa = ws0 + (k_prev2 if k_prev2 >= 0 else k_prev1) * wstep
             sb = ws0 + min(kk, k_hi) * wstep
@@ -458,6 +468,8 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             # a golden search may end on the bracket's end (no minimum inside): not a point
             if ok_ref and s_ref - sa > 1.0e-9 and sb - s_ref > 1.0e-9:
                 n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+                value_s = s_ref
+        cell_s = np.nan
         # the cell where the locus comes onto (or leaves) the rail: a minimum between the
         # rail's edge and the first (last) node when the slope there rises (falls)
         onto = g < 1.0e8 and g_prev1 >= 1.0e8 and dg > 0.0
@@ -476,6 +488,8 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             # jump (docs/curving.md)
             s_a = ws0 + k_prev1 * wstep
             s_lo, s_hi = _cell_minimum_bracket(s_a, s, g_prev1, dg_prev, g, dg, wtab, rtab, ctx)
+            if dg_prev < 0.0 <= dg and s_a <= value_s <= s:
+                s_hi = s_lo  # the value rule has just refined the minimum of this cell
             if s_hi > s_lo:
                 s_ref = _refine_minimum(s_lo, s_hi, wtab, rtab, ctx)
                 g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
@@ -484,6 +498,8 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
                 inside = s_ref - s_lo > 1.0e-9 and s_hi - s_ref > 1.0e-9
                 if ok_ref and inside and g_ref < min(g_prev1, g):
                     n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+                    if dg_prev < 0.0 <= dg:
+                        cell_s = s_ref
         dg_prev = dg
         g_prev2 = g_prev1
         k_prev2 = k_prev1
