@@ -51,6 +51,7 @@ from .alignment import (
     TAB_X,
     TAB_Y,
 )
+from .body_points import apply_axial_force, point_state, rotation
 from .contact import kernel as K
 from .suspension_forces import suspension_forces, suspension_jacobian
 
@@ -126,19 +127,6 @@ class KernelData(NamedTuple):
     se_int: np.ndarray  # nonlinear suspension elements: integer rows (suspension_forces.SI_*)
     se_real: np.ndarray  # their real rows (suspension_forces.SR_*)
     se_table: np.ndarray  # their characteristic tables (n, 2)
-
-
-@numba.njit(inline="always", **_JIT)
-def _rot(t0, t1, t2):
-    """Rotation matrix entries of Rx(t0) Ry(t1) Rz(t2), row-major."""
-    c0, s0 = math.cos(t0), math.sin(t0)
-    c1, s1 = math.cos(t1), math.sin(t1)
-    c2, s2 = math.cos(t2), math.sin(t2)
-    return (
-        c1 * c2, -c1 * s2, s1,
-        c0 * s2 + s0 * s1 * c2, c0 * c2 - s0 * s1 * s2, -s0 * c1,
-        s0 * s2 - c0 * s1 * c2, s0 * c2 + c0 * s1 * s2, c0 * c1,
-    )  # fmt: skip
 
 
 @numba.njit(**_JIT)
@@ -491,7 +479,7 @@ def _frame_forces(j, q, qt, d, out):
     t0 = d.qref[o + 3] + q[o + 3]
     t1 = d.qref[o + 4] + q[o + 4]
     t2 = d.qref[o + 5] + q[o + 5]
-    a = _rot(t0, t1, t2)
+    a = rotation(t0, t1, t2)
     c0, s0 = math.cos(t0), math.sin(t0)
     c1, s1 = math.cos(t1), math.sin(t1)
     wx = qt[o + 3] + s1 * qt[o + 5]
@@ -536,33 +524,9 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
     vb = np.empty(3)
     ra = np.empty(3)
     rb = np.empty(3)
-    for side in range(2):
-        o = oa if side == 0 else ob
-        lp = BS_P0 if side == 0 else BS_P1
-        a = _rot(qref[o + 3] + q[o + 3], qref[o + 4] + q[o + 4], qref[o + 5] + q[o + 5])
-        lx, ly, lz = bs_real[b, lp], bs_real[b, lp + 1], bs_real[b, lp + 2]
-        rx = a[0] * lx + a[1] * ly + a[2] * lz
-        ry = a[3] * lx + a[4] * ly + a[5] * lz
-        rz = a[6] * lx + a[7] * ly + a[8] * lz
-        t0 = qref[o + 3] + q[o + 3]
-        t1 = qref[o + 4] + q[o + 4]
-        c0, s0 = math.cos(t0), math.sin(t0)
-        c1, s1 = math.cos(t1), math.sin(t1)
-        wx = qt[o + 3] + s1 * qt[o + 5]
-        wy = c0 * qt[o + 4] - s0 * c1 * qt[o + 5]
-        wz = s0 * qt[o + 4] + c0 * c1 * qt[o + 5]
-        p = pa if side == 0 else pb
-        v = va if side == 0 else vb
-        r = ra if side == 0 else rb
-        p[0] = qref[o] + q[o] + rx
-        p[1] = qref[o + 1] + q[o + 1] + ry
-        p[2] = qref[o + 2] + q[o + 2] + rz
-        v[0] = qt[o] + wy * rz - wz * ry
-        v[1] = qt[o + 1] + wz * rx - wx * rz
-        v[2] = qt[o + 2] + wx * ry - wy * rx
-        r[0] = rx
-        r[1] = ry
-        r[2] = rz
+    p0, p1 = BS_P0, BS_P1
+    point_state(oa, bs_real[b, p0], bs_real[b, p0 + 1], bs_real[b, p0 + 2], q, qt, qref, pa, va, ra)
+    point_state(ob, bs_real[b, p1], bs_real[b, p1 + 1], bs_real[b, p1 + 2], q, qt, qref, pb, vb, rb)
     d = pb[dr] - pa[dr] - bs_real[b, BS_D0]
     clear = bs_real[b, BS_CLEAR]
     f = 0.0
@@ -574,28 +538,9 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
         f = -bs_real[b, BS_K] * (d + clear) - bs_real[b, BS_C] * (vb[dr] - va[dr])
         if f < 0.0:
             f = 0.0
-    if f == 0.0:
-        return
-    for side in range(2):
-        o = oa if side == 0 else ob
-        sgn = -1.0 if side == 0 else 1.0
-        r = ra if side == 0 else rb
-        fv0 = sgn * f if dr == 0 else 0.0
-        fv1 = sgn * f if dr == 1 else 0.0
-        fv2 = sgn * f if dr == 2 else 0.0
-        out[o] += fv0
-        out[o + 1] += fv1
-        out[o + 2] += fv2
-        tx = r[1] * fv2 - r[2] * fv1
-        ty = r[2] * fv0 - r[0] * fv2
-        tz = r[0] * fv1 - r[1] * fv0
-        t0 = qref[o + 3] + q[o + 3]
-        t1 = qref[o + 4] + q[o + 4]
-        c0, s0 = math.cos(t0), math.sin(t0)
-        c1, s1 = math.cos(t1), math.sin(t1)
-        out[o + 3] += tx
-        out[o + 4] += c0 * ty + s0 * tz
-        out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
+    if f != 0.0:
+        apply_axial_force(oa, -1.0, f, dr, ra, q, qref, out)
+        apply_axial_force(ob, 1.0, f, dr, rb, q, qref, out)
 
 
 @numba.njit(**_JIT)

@@ -51,6 +51,7 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
+from .body_points import apply_axial_force, point_state
 from .vehicle import AirSpring, Damper, Friction, NonlinearSpring, UICLink, linear_part
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -138,64 +139,6 @@ def _law(e, si, sr, tab, v):
 
 
 @numba.njit(**_JIT)
-def _point(o, lx, ly, lz, q, qt, qref, p, v, r):
-    """Position ``p``, velocity ``v`` and lever ``r`` (global) of the body point with local
-    coordinates ``l`` on the node at coordinate offset ``o`` (Tait-Bryan Rxyz angles)."""
-    t0 = qref[o + 3] + q[o + 3]
-    t1 = qref[o + 4] + q[o + 4]
-    t2 = qref[o + 5] + q[o + 5]
-    c0, s0 = math.cos(t0), math.sin(t0)
-    c1, s1 = math.cos(t1), math.sin(t1)
-    c2, s2 = math.cos(t2), math.sin(t2)
-    # A = Rx(t0) Ry(t1) Rz(t2)
-    a00 = c1 * c2
-    a01 = -c1 * s2
-    a02 = s1
-    a10 = s0 * s1 * c2 + c0 * s2
-    a11 = -s0 * s1 * s2 + c0 * c2
-    a12 = -s0 * c1
-    a20 = -c0 * s1 * c2 + s0 * s2
-    a21 = c0 * s1 * s2 + s0 * c2
-    a22 = c0 * c1
-    rx = a00 * lx + a01 * ly + a02 * lz
-    ry = a10 * lx + a11 * ly + a12 * lz
-    rz = a20 * lx + a21 * ly + a22 * lz
-    wx = qt[o + 3] + s1 * qt[o + 5]
-    wy = c0 * qt[o + 4] - s0 * c1 * qt[o + 5]
-    wz = s0 * qt[o + 4] + c0 * c1 * qt[o + 5]
-    p[0] = qref[o] + q[o] + rx
-    p[1] = qref[o + 1] + q[o + 1] + ry
-    p[2] = qref[o + 2] + q[o + 2] + rz
-    v[0] = qt[o] + wy * rz - wz * ry
-    v[1] = qt[o + 1] + wz * rx - wx * rz
-    v[2] = qt[o + 2] + wx * ry - wy * rx
-    r[0] = rx
-    r[1] = ry
-    r[2] = rz
-
-
-@numba.njit(**_JIT)
-def _apply(o, sgn, f, dr, r, q, qref, out):
-    """Add the force ``sgn f`` along axis ``dr`` at lever ``r`` to the node at offset ``o``."""
-    fv0 = sgn * f if dr == 0 else 0.0
-    fv1 = sgn * f if dr == 1 else 0.0
-    fv2 = sgn * f if dr == 2 else 0.0
-    out[o] += fv0
-    out[o + 1] += fv1
-    out[o + 2] += fv2
-    tx = r[1] * fv2 - r[2] * fv1
-    ty = r[2] * fv0 - r[0] * fv2
-    tz = r[0] * fv1 - r[1] * fv0
-    t0 = qref[o + 3] + q[o + 3]
-    t1 = qref[o + 4] + q[o + 4]
-    c0, s0 = math.cos(t0), math.sin(t0)
-    c1, s1 = math.cos(t1), math.sin(t1)
-    out[o + 3] += tx
-    out[o + 4] += c0 * ty + s0 * tz
-    out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
-
-
-@numba.njit(**_JIT)
 def element_force(e, q, qt, qref, si, sr, tab, out):
     """Add the generalized forces of kernel element ``e`` to ``out`` and return its force
     ``F`` [N] (``-F`` acts on the second body along the element's axis)."""
@@ -208,8 +151,8 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     vb = np.empty(3)
     ra = np.empty(3)
     rb = np.empty(3)
-    _point(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref, pa, va, ra)
-    _point(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref, pb, vb, rb)
+    point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref, pa, va, ra)
+    point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref, pb, vb, rb)
     d = pb[dr] - pa[dr] - sr[e, SR_D0]
     v = vb[dr] - va[dr]
     start = si[e, SI_SPRING_START]
@@ -232,8 +175,8 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     else:
         f += _law(e, si, sr, tab, v)
     if f != 0.0:
-        _apply(oa, 1.0, f, dr, ra, q, qref, out)
-        _apply(ob, -1.0, f, dr, rb, q, qref, out)
+        apply_axial_force(oa, 1.0, f, dr, ra, q, qref, out)
+        apply_axial_force(ob, -1.0, f, dr, rb, q, qref, out)
     return f
 
 

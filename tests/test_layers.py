@@ -45,6 +45,7 @@ LAYERS: dict[str, int] = {
     "railexu.longitudinal": 6,
     "railexu.model": 5,
     "railexu.forces": 5,
+    "railexu.body_points": 5,
     "railexu.statics": 5,
     "railexu.suspension_forces": 5,
     "railexu.track_model": 4,
