@@ -1,11 +1,11 @@
 """Longitudinal outputs of a run: creepage and creep force per wheel, wheelset spin and axle
 torque, the achieved speed and acceleration, and their summary (``docs/traction-and-braking.md``).
 
-The recorder of :mod:`railexu.simulation` keeps the longitudinal state at every output time
-(:meth:`LongitudinalRecord.keep`, with the state and the kernel's contact points) and adds
-:meth:`LongitudinalRecord.columns` to the time series after the run (in a free run they include
-the achieved ``distance_m`` and ``speed_m_per_s``); :func:`longitudinal_summary` gives the
-``longitudinal`` entry of ``summary.json``.
+The recorder (:mod:`railexu.recorder`) keeps the wheelsets' spin and the speed body's motion
+at every output time (:meth:`LongitudinalRecord.keep`) and adds
+:meth:`LongitudinalRecord.columns`, computed with the contact points it kept, to the time series
+after the run (in a free run they include the achieved ``distance_m`` and ``speed_m_per_s``);
+:func:`longitudinal_summary` gives the ``longitudinal`` entry of ``summary.json``.
 """
 
 from __future__ import annotations
@@ -38,9 +38,8 @@ def longitudinal_columns(n_wheelsets: int) -> list[str]:
 class LongitudinalRecord:
     """Keeps the longitudinal state of a run at its output times and makes its columns.
 
-    The recorder calls :meth:`keep` at every output time (with the state and the kernel's
-    contact points of the wheelsets from the front) and adds :meth:`columns` to the time series
-    after the run.
+    The recorder calls :meth:`keep` at every output time (with the state) and adds
+    :meth:`columns` (with the contact points it kept) to the time series after the run.
 
     Args:
         model: the vehicle model.
@@ -67,20 +66,12 @@ class LongitudinalRecord:
             )[0]
         )
         n_ws = self.order.size
-        self.wheel = np.zeros((n_out, n_ws, 2, len(WHEEL_FIELDS)))
         self.wheelset = np.zeros((n_out, n_ws, len(WHEELSET_FIELDS)))
         self.motion = np.zeros((n_out, 3))  # distance, speed, acceleration of the speed body
 
-    def keep(self, k: int, q, qt, qtt, points: np.ndarray) -> None:
-        """Keep output ``k``: the state and the contact points ``(n_ws, 2, MAX_POINTS,
-        fields)`` (wheelsets from the front; the kernel zeroes the candidate points that carry
-        no load, and its normal forces are >= 0)."""
-        normal = points[..., K.PF_N]
-        total = normal.sum(axis=2)
-        total[total == 0.0] = 1.0
-        wheel = self.wheel[k]
-        wheel[..., 0] = (normal * points[..., K.PF_XI]).sum(axis=2) / total
-        wheel[..., 1] = points[..., K.PF_FX].sum(axis=2)
+    def keep(self, k: int, q, qt, qtt) -> None:
+        """Keep output ``k``: the wheelsets' spin and torques, the speed body's motion (the
+        wheels' creepages and creep forces come from the contact points the recorder keeps)."""
         # the angular velocity about the axle, omega . e_axle = theta2' + sin(theta1) theta0'
         spin = qt[self.i_spin] + np.sin(self.yaw_ref + q[self.i_yaw]) * qt[self.i_roll]
         self.wheelset[k, :, 0] = spin
@@ -90,14 +81,27 @@ class LongitudinalRecord:
         i = self.i_speed
         self.motion[k] = (q[i], qt[i], 0.0 if qtt is None else qtt[i])
 
-    def columns(self, n: int) -> dict[str, np.ndarray]:
-        """The :func:`longitudinal_columns` of the first ``n`` outputs; for a free run also
-        ``distance_m`` and ``speed_m_per_s``, the achieved ones (they replace the prescribed)."""
+    def columns(self, n: int, points: np.ndarray) -> dict[str, np.ndarray]:
+        """The :func:`longitudinal_columns` of the first ``n`` outputs, with the kernel's
+        contact points at those outputs ``(n, n_ws, 2, MAX_POINTS, N_POINT_FIELDS)`` (wheelsets
+        from the front; the kernel zeroes the candidate points that carry no load, and its
+        normal forces are >= 0); for a free run also ``distance_m`` and ``speed_m_per_s``, the
+        achieved ones (they replace the prescribed)."""
+        normal = points[..., K.PF_N]
+        total = normal.sum(axis=-1)
+        total[total == 0.0] = 1.0
+        wheel = np.stack(
+            [
+                (normal * points[..., K.PF_XI]).sum(axis=-1) / total,
+                points[..., K.PF_FX].sum(axis=-1),
+            ],
+            axis=-1,
+        )
         out: dict[str, np.ndarray] = {}
         for i in range(self.order.size):
             for s, side in enumerate(SIDES):
                 for f, field in enumerate(WHEEL_FIELDS):
-                    out[f"ws{i + 1}_{side}_{field}"] = self.wheel[:n, i, s, f].copy()
+                    out[f"ws{i + 1}_{side}_{field}"] = wheel[:, i, s, f]
             for f, field in enumerate(WHEELSET_FIELDS):
                 out[f"ws{i + 1}_{field}"] = self.wheelset[:n, i, f].copy()
         out[MOTION_COLUMNS[0]] = self.motion[:n, 1].copy()

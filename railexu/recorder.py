@@ -188,7 +188,7 @@ class Recorder:
         if qtt is not None:
             self.acc_q[k] = qtt[self.i_acc].ravel()
         self.frame_s[k] = model.kernel.frame[FR_S]
-        self.longitudinal.keep(k, q, qt, qtt, model.points[self.order])
+        self.longitudinal.keep(k, q, qt, qtt)
         self.n = k + 1
         self.last_time = t
         return self._derailment(t, loc)
@@ -272,7 +272,7 @@ class Recorder:
             cols[f"{p.name}_acc_y_m_per_s2"] = acc[:, j, 0]
             cols[f"{p.name}_acc_z_m_per_s2"] = acc[:, j, 1]
         # a free run's achieved distance and speed replace the prescribed ones
-        cols.update(self.longitudinal.columns(n))
+        cols.update(self.longitudinal.columns(n, pts))
         speed = cols.get("speed_m_per_s", speed)
         if self.settings.contact_outputs:
             fields = contact_fields(pts)
