@@ -5,11 +5,13 @@ the measurement points with their ride comfort."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..results import MIN_LOAD_FRACTION, SAFETY_WINDOW_M, sliding_mean, y_over_q
 from .figures import SIDES
 
 if TYPE_CHECKING:
@@ -137,7 +139,9 @@ def _nanmax(*arrays: np.ndarray) -> float:
     return float(max(values)) if values else 0.0
 
 
-def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figure]:
+def run_figures(
+    ts: TimeSeries, summary=None, title: str = "", names: Iterable[str] | None = None
+) -> dict[str, Figure]:
     """Figures of a running simulation against the distance travelled (m).
 
     - ``"lateral_displacement"``: lateral displacement (mm, positive left) of every wheelset
@@ -160,21 +164,59 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         ts: the recorded time series.
         summary: the run's summary (:class:`railexu.results.RunSummary` or its dict), optional.
         title: figure title prefix (vehicle, speed...).
+        names: the figures to draw (default: all of :func:`run_figure_names`).
     """
-    from ..results import MIN_LOAD_FRACTION, SAFETY_WINDOW_M, sliding_mean, y_over_q
+    available = run_figure_names(ts)
+    wanted = available if names is None else list(names)
+    unknown = [n for n in wanted if n not in RUN_FIGURES]
+    if unknown:
+        raise ValueError(f"unknown run figures {unknown}: expected some of {list(RUN_FIGURES)}")
+    page = _page(ts, summary, title)
+    return {n: RUN_FIGURES[n](page) for n in wanted if n in available}
 
+
+def run_figure_names(ts: TimeSeries) -> list[str]:
+    """The names of the run figures that ``ts`` has data for, in drawing order."""
+    names = [n for n in RUN_FIGURES if n != "accelerations"]
+    return names + (["accelerations"] if ts.measurement_points() else [])
+
+
+class _Page(NamedTuple):
+    """What every run figure needs: the data, the axes' common labels."""
+
+    ts: TimeSeries
+    summary: dict
+    x: np.ndarray
+    indices: list[int]
+    labels: dict[int, str]
+    prefix: str
+    xlabel: str
+    rows: int
+    criteria: dict
+
+
+def _page(ts: TimeSeries, summary, title: str) -> _Page:
     summary = _summary_dict(summary)
-    x = ts.distance_m
     indices = ts.wheelset_indices()
-    labels = _wheelset_labels(ts, summary)
-    prefix = f"{title}: " if title else ""
-    xlabel = "distance travelled [m]"
-    side_colour = {"left": "tab:blue", "right": "tab:red"}
-    figs: dict[str, Figure] = {}
-    rows = max(1, len(indices))
-    criteria = (summary.get("assessment") or {}).get("criteria") or {}
+    return _Page(
+        ts=ts,
+        summary=summary,
+        x=ts.distance_m,
+        indices=indices,
+        labels=_wheelset_labels(ts, summary),
+        prefix=f"{title}: " if title else "",
+        xlabel="distance travelled [m]",
+        rows=max(1, len(indices)),
+        criteria=(summary.get("assessment") or {}).get("criteria") or {},
+    )
 
-    # 1. lateral displacement
+
+_SIDE_COLOUR = {"left": "tab:blue", "right": "tab:red"}
+
+
+def _lateral_displacement(page: _Page) -> Figure:
+    """Lateral displacement of the wheelsets and bodies."""
+    ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
     fig = Figure(figsize=(10, 5))
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.92)
@@ -187,9 +229,12 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
     _shade_outside_window(ax, summary, x)
     _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]",
                  f"{prefix}lateral displacement{_hunting_text(summary)}")  # fmt: skip
-    figs["lateral_displacement"] = fig
+    return fig
 
-    # 2. lateral force with flange contact
+
+def _lateral_force(page: _Page) -> Figure:
+    """Lateral force Y of each wheel with flange contact marked."""
+    ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     fig = _stacked_figure(rows)
     axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
     for ax, i in zip(axes, indices, strict=False):
@@ -197,7 +242,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
             name = f"ws{i}_{side}"
             if f"{name}_Y_N" not in ts:
                 continue
-            c = side_colour[side]
+            c = _SIDE_COLOUR[side]
             ax.plot(*_envelope(x, ts[f"{name}_Y_N"] * 1e-3), color=c, lw=1.0,
                     label=f"{side} wheel Y")  # fmt: skip
             if f"{name}_max_angle_rad" in ts:
@@ -208,9 +253,12 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _finish_axes(ax, xlabel, "lateral force Y [kN]", f"{labels[i]}: lateral force on wheels")
     fig.suptitle(f"{prefix}lateral wheel-rail force (on the wheel, positive left)")
     _deduplicate_legends(fig)
-    figs["lateral_force"] = fig
+    return fig
 
-    # 3. Y/Q, flanging wheel positive
+
+def _y_over_q(page: _Page) -> Figure:
+    """Y/Q of each wheel (flanging positive) against EN 14363's limit."""
+    ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     q_cols = [ts[f"ws{i}_{s}_Q_N"] for i in indices for s in SIDES if f"ws{i}_{s}_Q_N" in ts]
     mean_q = float(np.nanmean(np.concatenate(q_cols))) if q_cols and len(ts) else 0.0
     yq_info = summary.get("max_Y_over_Q") or {}
@@ -223,7 +271,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         for side in SIDES:
             if f"ws{i}_{side}_Y_N" not in ts or f"ws{i}_{side}_Q_N" not in ts:
                 continue
-            c = side_colour[side]
+            c = _SIDE_COLOUR[side]
             yq = y_over_q(ts, i, side, MIN_LOAD_FRACTION * max(mean_q, 0.0))
             ax.plot(*_envelope(x, yq), color=c, lw=0.7, alpha=0.45, label=f"{side} wheel")
             top = max(top, _nanmax(yq))
@@ -239,9 +287,12 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _finish_axes(ax, xlabel, "Y/Q (flanging positive) [-]", f"{labels[i]}: Y/Q")
     fig.suptitle(f"{prefix}derailment quotient Y/Q against the EN 14363 limit")
     _deduplicate_legends(fig)
-    figs["y_over_q"] = fig
+    return fig
 
-    # 4. wheel load and unloading
+
+def _wheel_load(page: _Page) -> Figure:
+    """Wheel load Q and unloading against its limit."""
+    ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     unloading = criteria.get("wheel_unloading") or {}
     static = unloading.get("static_wheel_load_N") or {}
     fig = _stacked_figure(rows)
@@ -251,7 +302,7 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
             col = f"ws{i}_{side}_Q_N"
             if col not in ts:
                 continue
-            c = side_colour[side]
+            c = _SIDE_COLOUR[side]
             q = ts[col]
             q0 = static.get(f"ws{i}_{side}") or (float(np.nanmean(q)) if len(q) else 1.0)
             ax_q.plot(*_envelope(x, q * 1e-3), color=c, lw=1.0, label=f"{side} wheel Q")
@@ -264,9 +315,12 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _finish_axes(ax_d, xlabel, "unloading dQ/Q0 [-]", f"{labels[i]}: wheel unloading")
     fig.suptitle(f"{prefix}vertical wheel load Q and unloading (Q0 - Q)/Q0")
     _deduplicate_legends(fig)
-    figs["wheel_load"] = fig
+    return fig
 
-    # 5. sum Y
+
+def _sum_y(page: _Page) -> Figure:
+    """Track-shifting force sum Y per axle against EN 14363's limit."""
+    ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     shift = (summary.get("max_sum_Y_N") or {}).get("limit_N")
     fig = _stacked_figure(rows)
     axes = np.atleast_1d(fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0])
@@ -286,12 +340,24 @@ def run_figures(ts: TimeSeries, summary=None, title: str = "") -> dict[str, Figu
         _finish_axes(ax, xlabel, "sum Y [kN]", f"{labels[i]}: track-shifting force")
     fig.suptitle(f"{prefix}track-shifting force sum Y = Y_left + Y_right (EN 14363)")
     _deduplicate_legends(fig)
-    figs["sum_y"] = fig
+    return fig
 
-    points = ts.measurement_points()
-    if points:
-        figs["accelerations"] = _acceleration_figure(ts, points, summary, prefix, xlabel)
-    return figs
+
+def _accelerations(page: _Page) -> Figure:
+    """Accelerations of the measurement points with their ride comfort."""
+    points = page.ts.measurement_points()
+    return _acceleration_figure(page.ts, points, page.summary, page.prefix, page.xlabel)
+
+
+#: the run figures by name, in drawing order
+RUN_FIGURES: dict[str, Callable[[_Page], Figure]] = {
+    "lateral_displacement": _lateral_displacement,
+    "lateral_force": _lateral_force,
+    "y_over_q": _y_over_q,
+    "wheel_load": _wheel_load,
+    "sum_y": _sum_y,
+    "accelerations": _accelerations,
+}
 
 
 def _hunting_text(summary: dict) -> str:

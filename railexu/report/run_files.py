@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..results import write_summary
+from .file_jobs import FileJob, write_jobs
 from .folder import OutputFolder, atomic_path
 
 if TYPE_CHECKING:
@@ -43,35 +46,95 @@ def write_run(
 def _write_into(
     result: RunResult, folder: OutputFolder, plots: bool, formats: tuple[str, ...]
 ) -> list[Path]:
-    path = folder.file("timeseries.csv")
-    with atomic_path(path) as tmp:
-        result.timeseries.to_csv(tmp)
     path = folder.file("summary.json")
     with atomic_path(path) as tmp:
         write_summary(result.summary, tmp)
+    jobs = [FileJob("timeseries", _csv_writer(result, folder.file("timeseries.csv")), 0.4)]
     if result.model is not None:  # the state the animations read (railexu animate)
-        from .state_file import STATE_FILE, write_state
+        from .state_file import STATE_FILE
 
-        with atomic_path(folder.file(STATE_FILE)) as tmp:
-            write_state(result, tmp)
+        jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
     if plots:
-        from .run_figures import run_figures
-
-        title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
-        for name, fig in run_figures(result.timeseries, result.summary, title).items():
-            _save(folder, fig, name, formats)
-        alignment = getattr(result.track, "alignment", None)
-        if alignment is not None and not alignment.is_straight:
-            from .curving_figures import curving_figure
-            from .track_figures import track_figure
-
-            _save(folder, track_figure(alignment, result.track.name), "track", formats)
-            _save(folder, curving_figure(result.timeseries, alignment, title), "curving", formats)
+        jobs += _figure_jobs(result, folder, formats)
+    write_jobs(jobs)
     return list(folder.written)
 
 
-def _save(folder: OutputFolder, fig, name: str, formats: tuple[str, ...]) -> None:
+def _csv_writer(result: RunResult, path: Path) -> Callable[[], None]:
+    def write() -> None:
+        with atomic_path(path) as tmp:
+            result.timeseries.to_csv(tmp)
+
+    return write
+
+
+def _state_writer(result: RunResult, path: Path) -> Callable[[], None]:
+    def write() -> None:
+        from .state_file import write_state
+
+        with atomic_path(path) as tmp:
+            write_state(result, tmp)
+
+    return write
+
+
+def _figure_jobs(
+    result: RunResult, folder: OutputFolder, formats: tuple[str, ...]
+) -> list[FileJob]:
+    """One job per figure (each builds and saves its figure); the figure files are recorded
+    in ``folder`` here, whichever process writes them."""
+    from .run_figures import run_figure_names
+
+    title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
+    ts = result.timeseries
+    builders: dict[str, Callable] = {}
+    for name in run_figure_names(ts):
+        builders[name] = partial(_run_figure, result, title, name)
+    alignment = getattr(result.track, "alignment", None)
+    if alignment is not None and not alignment.is_straight:
+        builders["track"] = partial(_track_figure, alignment, result.track.name)
+        builders["curving"] = partial(_curving_figure, ts, alignment, title)
+    jobs = []
+    for name, build in builders.items():
+        for fmt in formats:
+            folder.file(f"{name}.{fmt}")
+        cost = _FIGURE_COST.get(name, 1.0)
+        jobs.append(FileJob(name, partial(_save, folder.path / name, build, formats), cost))
+    return jobs
+
+
+#: relative drawing times of the figures (measured on the EU07; only their ratios matter)
+_FIGURE_COST = {
+    "wheel_load": 1.4,
+    "lateral_force": 1.2,
+    "curving": 1.2,
+    "y_over_q": 1.0,
+    "sum_y": 1.0,
+    "accelerations": 0.7,
+    "track": 0.5,
+    "lateral_displacement": 0.4,
+}
+
+
+def _run_figure(result: RunResult, title: str, name: str):
+    from .run_figures import run_figures
+
+    return run_figures(result.timeseries, result.summary, title, names=[name])[name]
+
+
+def _track_figure(alignment, track_name: str):
+    from .track_figures import track_figure
+
+    return track_figure(alignment, track_name)
+
+
+def _curving_figure(ts, alignment, title: str):
+    from .curving_figures import curving_figure
+
+    return curving_figure(ts, alignment, title)
+
+
+def _save(stem: Path, build: Callable, formats: tuple[str, ...]) -> None:
     from .figures import save_figure
 
-    for path in save_figure(fig, folder.path / name, formats=formats):
-        folder.file(path.name)
+    save_figure(build(), stem, formats=formats)
