@@ -23,6 +23,7 @@ from .curving import track_columns
 from .forces import FR_S, WL_LATERAL, WL_ROLL, WL_S, WL_SIZE, WL_VERTICAL, WL_YAW, track_position
 from .longitudinal import LongitudinalRecord
 from .model import VehicleModel
+from .record_row import ROW_OFF_TRACK, ROW_WHEEL_ROSE, derailment, keep_row
 from .run_settings import RunSettings
 from .timeseries import TimeSeries
 from .vehicle import Vehicle
@@ -69,7 +70,10 @@ _CONTACT_INDEX = np.array([f for f in CONTACT_FIELDS.values() if f >= 0])
 _KEPT = np.unique(np.concatenate([
     _POINT_INDEX, _CONTACT_INDEX,
     [K.PF_N, K.PF_FTY, K.PF_FTZ, K.PF_ANGLE, K.PF_FX, K.PF_FY, K.PF_XI, K.PF_ETA, K.PF_SPIN],
-]))  # fmt: skip
+])).astype(np.int64)  # fmt: skip
+#: an empty array: no accelerations to keep, or no irregularities
+_EMPTY = np.zeros(0)
+_SIDES = ("left", "right")
 
 
 def contact_fields(points: np.ndarray) -> np.ndarray:
@@ -128,7 +132,7 @@ class Recorder:
         self.model = model
         self.vehicle = vehicle
         self.settings = settings
-        self.order = np.asarray(order)
+        self.order = np.asarray(order, dtype=np.int64)
         self.ws_names = [vehicle.wheelsets[i].name for i in order]
         self.body_names = [b.name for b in vehicle.bodies]
         n_ws = len(order)
@@ -146,6 +150,10 @@ class Recorder:
         self.lever = np.array([np.subtract(p.position_m, centres[p.body]) for p in points]).reshape(
             -1, 3
         )
+        # the same, flat, for the compiled copy at each output
+        self._i_body = np.ascontiguousarray(self.i_body.ravel(), dtype=np.int64)
+        self._i_rail = np.ascontiguousarray(self.i_rail.ravel(), dtype=np.int64)
+        self._i_acc = np.ascontiguousarray(self.i_acc.ravel(), dtype=np.int64)
         # the raw record
         self.time = np.zeros(n_out)
         self.local = np.zeros((n_out, n_ws, WL_SIZE))
@@ -176,49 +184,42 @@ class Recorder:
         k = self.n
         if k >= self.time.size:
             return None
-        if not (np.isfinite(q).all() and np.isfinite(qt).all()):
-            return ("diverged", t, "the state became NaN or infinite")
         model = self.model
+        kept = keep_row(
+            k, q, qt, _EMPTY if qtt is None else qtt, model.kernel.ws_local,
+            model.points, self.order, _KEPT, self._i_body, self._i_rail, self._i_acc,
+            self.local, self.points, self.body_q, self.rail_q, self.acc_q,
+        )  # fmt: skip
+        if not kept:
+            return ("diverged", t, "the state became NaN or infinite")
         self.time[k] = t
-        loc = model.kernel.ws_local[self.order]
-        self.local[k] = loc
-        self.points[k] = model.points[self.order][..., _KEPT]
-        self.body_q[k] = q[self.i_body].ravel()
-        self.rail_q[k] = q[self.i_rail].ravel()
-        if qtt is not None:
-            self.acc_q[k] = qtt[self.i_acc].ravel()
         self.frame_s[k] = model.kernel.frame[FR_S]
         self.longitudinal.keep(k, q, qt, qtt)
         self.n = k + 1
         self.last_time = t
-        return self._derailment(t, loc)
+        return self._derailment(t, self.local[k])
 
     def _derailment(self, t: float, loc: np.ndarray) -> tuple | None:
         """A wheel climbing its rail, or a wheelset off the track."""
-        z = loc[:, WL_VERTICAL]
-        droll = self.e * (np.sin(loc[:, WL_ROLL]) - self.sin_roll0)
-        rise_left = z - self.z0 + droll
-        rise_right = z - self.z0 - droll
-        rise = np.maximum(rise_left, rise_right)
-        y = loc[:, WL_LATERAL] - self.irregularity_centre(loc[:, WL_S])
-        if (rise > self.lift_limit).any():
-            w = int(np.argmax(rise > self.lift_limit))
-            side = "left" if rise_left[w] > rise_right[w] else "right"
+        centre = self.irregularity_centre
+        verdict, w, side, rise, y = derailment(
+            loc, self.z0, self.sin_roll0, self.e, self.lift_limit,
+            centre.x if centre.active else _EMPTY, centre.centre,
+            self.settings.derailment_lateral_m,
+        )  # fmt: skip
+        if verdict == ROW_WHEEL_ROSE:
             return (
                 "derailed",
                 t,
-                f"wheelset {self.ws_names[w]} ({w + 1}), {side} wheel rose "
-                f"{rise[w] * 1e3:.1f} mm above its rail (flange climb or wheel lift) at "
-                f"lateral {y[w] * 1e3:.1f} mm",
+                f"wheelset {self.ws_names[w]} ({w + 1}), {_SIDES[side]} wheel rose "
+                f"{rise * 1e3:.1f} mm above its rail (flange climb or wheel lift) at "
+                f"lateral {y * 1e3:.1f} mm",
             )
-        off = np.abs(y) > self.settings.derailment_lateral_m
-        if off.any():
-            w = int(np.argmax(off))
+        if verdict == ROW_OFF_TRACK:
             return (
                 "derailed",
                 t,
-                f"wheelset {self.ws_names[w]} ({w + 1}) left the track: lateral "
-                f"{y[w] * 1e3:.1f} mm",
+                f"wheelset {self.ws_names[w]} ({w + 1}) left the track: lateral {y * 1e3:.1f} mm",
             )
         return None
 
