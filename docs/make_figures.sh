@@ -10,6 +10,11 @@ railexu run vehicles/eu07_bogie.yaml --out "$out/bogie_10" --quiet
 # the same comparison above the bogie's critical speed
 railexu run vehicles/eu07.yaml --speed 45 --distance 600 --out "$out/eu07_45" --quiet
 railexu run vehicles/eu07_bogie.yaml --speed 45 --distance 600 --out "$out/bogie_45" --quiet
+# the EU07 in the R 300 m curve at 150 mm cant deficiency (docs/curving.md)
+railexu run vehicles/eu07.yaml --track tracks/curve_r300.yaml --speed 24.26 --distance 450 \
+    --initial-lateral 0 --out "$out/eu07_r300" --quiet
+cp "$out/eu07_r300/track.png" docs/img/curve_r300_track.png
+cp "$out/eu07_r300/curving.png" docs/img/curve_r300_curving.png
 # linear critical speeds
 railexu critical-speed vehicles/eu07.yaml --methods linear --out "$out/cs_eu07" --quiet
 railexu critical-speed vehicles/eu07_bogie.yaml --methods linear,bisection,ramp \
