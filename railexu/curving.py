@@ -47,29 +47,57 @@ def track_columns(
     }
 
 
+_RULE = (
+    "per wheelset and constant-radius curve: quasi_static is the 50 % value (median) of the "
+    "unfiltered samples while the wheelset is on the constant-radius part and inside the "
+    "evaluation window (EN 14363:2016, 7.6); max and min are the extremes of the same samples"
+)
+
+
 def _stats(values: np.ndarray) -> dict[str, float]:
     return {"quasi_static": float(np.median(values)), "max": float(np.max(values)),
             "min": float(np.min(values))}  # fmt: skip
 
 
-def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> dict:
+def curving_statistics(
+    ts,
+    alignment: Alignment,
+    wheelset_names: list[str],
+    window: tuple[float, float, str] | None = None,
+) -> dict:
     """Quasi-static values (50 %) and extremes of each wheelset in each constant-radius curve.
 
+    Only the samples in the run's evaluation window count (the window of every other statistic
+    of the run: by default the start-up transient of the first 20 m is left out), so that a run
+    started inside a curve does not mix its start-up into the curve's quasi-static values.
+
     Args:
-        ts: the run's :class:`railexu.results.TimeSeries` (columns ``ws{i}_s_m``, ``..._Y_N``,
-            ``..._Q_N``, ``..._Tgamma_N``, ``ws{i}_yaw_rad``, ``ws{i}_lateral_m``).
+        ts: the run's :class:`railexu.results.TimeSeries` (columns ``distance_m``,
+            ``ws{i}_s_m``, ``..._Y_N``, ``..._Q_N``, ``..._Tgamma_N``, ``ws{i}_yaw_rad``,
+            ``ws{i}_lateral_m``).
         alignment: the track's design geometry.
         wheelset_names: names of ``ws1``, ``ws2``, ... (front to rear).
+        window: the evaluation window ``(from_m, to_m, rule)`` in distance travelled [m]; None
+            for the whole run.
 
     Returns:
         ``{"curves": [{start_m, end_m, radius_m, cant_m, direction, cant_deficiency_m,
-        wheelsets: [{name, samples, Y_outer_N, Y_inner_N, Q_outer_N, Q_inner_N, sum_Y_N,
+        wheelsets: [{name, samples, covered_m, Y_outer_N, Y_inner_N, Q_outer_N, Q_inner_N, sum_Y_N,
         Y_over_Q_outer, Tgamma_outer_N, Tgamma_inner_N, angle_of_attack_rad, lateral_m}]}],
         geometry}`` where each quantity is ``{quasi_static, max, min}``; a curve the run did
-        not reach has no wheelset entries; ``geometry`` is :meth:`Alignment.to_dict`.
+        not reach has no wheelset entries; ``covered_m`` is the length of the curve's
+        constant-radius part the counted samples cover; ``geometry`` is
+        :meth:`Alignment.to_dict`; ``window`` and ``rule`` say which samples and which rule.
     """
     cols = ts.columns
     speed = cols.get("speed_m_per_s")
+    travelled = cols["distance_m"]
+    if window is None:
+        counted = np.ones(travelled.size, dtype=bool)
+        window_dict = {"from_m": None, "to_m": None, "rule": "the whole run"}
+    else:
+        counted = (travelled >= window[0]) & (travelled <= window[1])
+        window_dict = {"from_m": float(window[0]), "to_m": float(window[1]), "rule": window[2]}
     curves = []
     for sec in alignment.constant_curves():
         left = sec.curvature_1_per_m > 0.0
@@ -85,7 +113,7 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
         }
         for i, name in enumerate(wheelset_names, start=1):
             s = cols[f"ws{i}_s_m"]
-            inside = (s >= sec.start_m) & (s <= sec.end_m)
+            inside = (s >= sec.start_m) & (s <= sec.end_m) & counted
             if not np.any(inside):
                 continue
             y_out = inward * cols[f"ws{i}_{outer}_Y_N"][inside]
@@ -96,6 +124,7 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
                 {
                     "name": name,
                     "samples": int(np.sum(inside)),
+                    "covered_m": float(np.max(s[inside]) - np.min(s[inside])),
                     "Y_outer_N": _stats(y_out),
                     "Y_inner_N": _stats(y_in),
                     "Q_outer_N": _stats(q_out),
@@ -109,7 +138,9 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
                 }
             )
         if entry["wheelsets"]:
-            mask = (cols["ws1_s_m"] >= sec.start_m) & (cols["ws1_s_m"] <= sec.end_m)
+            mask = (cols["ws1_s_m"] >= sec.start_m) & (cols["ws1_s_m"] <= sec.end_m) & counted
+            if not np.any(mask):  # the leading wheelset left the curve before the window
+                mask = (cols["ws1_s_m"] >= sec.start_m) & (cols["ws1_s_m"] <= sec.end_m)
             v = float(np.median(speed[mask])) if speed is not None else None
             entry["cant_deficiency_m"] = float(np.median(cols["cant_deficiency_m"][mask]))
             if v is not None:
@@ -118,6 +149,8 @@ def curving_statistics(ts, alignment: Alignment, wheelset_names: list[str]) -> d
     return {
         "sign_convention": "Y towards the curve centre, lateral towards the outer rail, "
         "angle of attack positive when the wheelset points to the outside",
+        "window": window_dict,
+        "rule": _RULE,
         "curves": curves,
         # the design geometry itself, so that `railexu plot` redraws the track and curving
         # figures from the run folder alone (railexu.alignment.alignment_from_record)

@@ -85,7 +85,8 @@ def assess(result: RunResult) -> RunSummary:
         for status in (result.status, summary.status):
             status.update(state=state, reason=f"safety criteria exceeded: {exceeded}")
     if model.curved:
-        facts["curving"] = curving_statistics(result.timeseries, model.alignment, names)
+        window = (summary.window.from_m, summary.window.to_m, summary.window.rule)
+        facts["curving"] = curving_statistics(result.timeseries, model.alignment, names, window)
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]
