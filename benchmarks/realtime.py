@@ -23,7 +23,12 @@ For every vehicle it also prints where the time goes (issue 11's budget):
   the number of its calls (from ``summary.json``);
 - *contact floor*: Newton iterations x wheelsets x the compiled kernel's time per wheelset
   measured now by ``benchmarks/contact.py`` on its 120 states (the seed's law of each vehicle);
-  the budget for the integration is 2.5 floors.
+  the budget for the integration is 2.5 floors;
+- *run-state floor*: Newton iterations x the force function's own time per call in this run
+  (the same contact work on the states the run visits, where two-point and flange contacts
+  cost more than the benchmark's mix; it includes the suspension elements' and bump stops'
+  compiled forces and the call itself), and the integration divided by it: what the solver
+  adds around the force evaluations (the extra residual per step, Jacobians, the recorder).
 Compare the ratios of one run of this script, not absolute times across machines or days.
 """
 
@@ -105,7 +110,8 @@ def main() -> None:
               "median of three whole commands")  # fmt: skip
         print(
             f"{'vehicle':11s} {'whole command':>20s} {'integration':>18s} {'overhead':>9s} "
-            f"{'force function':>22s} {'floor':>8s} {'int/floor':>9s}"
+            f"{'force function':>22s} {'floor':>8s} {'int/floor':>9s} "
+            f"{'run-state floor':>15s} {'int/run floor':>13s}"
         )
         for name in VEHICLES:
             runs = sorted(
@@ -121,12 +127,14 @@ def main() -> None:
             floor = solver["newton_iterations"] * n_ws * kernel[law]
             calls = solver.get("force_evaluations", 0)
             in_force = solver.get("force_function_s", float("nan"))
+            run_floor = solver["newton_iterations"] * in_force / max(calls, 1)
             print(
                 f"{name:11s} {wall:6.2f} s = {simulated / wall:5.1f}x  "
                 f"{integration:6.2f} s = {simulated / integration:5.1f}x "
                 f"{wall - integration:7.2f} s "
                 f"{in_force:6.2f} s ({calls:6d} calls) "
-                f"{floor:6.2f} s {integration / floor:8.1f}x"
+                f"{floor:6.2f} s {integration / floor:8.1f}x "
+                f"{run_floor:13.2f} s {integration / run_floor:12.1f}x"
             )
         for law, seconds in kernel.items():
             print(f"contact kernel ({law}): {seconds * 1e6:.2f} us per wheelset evaluation")
