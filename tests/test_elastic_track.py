@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from railexu.errors import InputError
 from railexu.runs import RunSettings, run
@@ -15,6 +16,40 @@ from railexu.track_model import ElasticTrack, track_model_from_dict
 from railexu.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
+DATA = Path(__file__).resolve().parent / "data"
+
+
+def _series(*stiffnesses: float) -> float:
+    return 1.0 / sum(1.0 / k for k in stiffnesses)
+
+
+def test_vertical_defaults_map_the_published_ballasted_track_of_zhai_2004():
+    """The default vertical stiffness is the point stiffness of the ballasted track of Zhai, Wang
+    & Lin (2004; tests/data/zhai2004_ballasted_track.yaml) as a beam on a Winkler foundation
+    (Hetenyi 1946, Beams on Elastic Foundation): ``k = 2 s / beta``, ``beta = (s / 4 EI)^(1/4)``,
+    ``s`` the rail seat's pad, ballast and subgrade in series over the sleeper spacing. The
+    default co-running mass lies between the kinetic-energy-equivalent masses of the rail alone
+    (``3 m' / (2 beta)``: the integral of the squared deflection shape
+    ``exp(-beta x)(cos + sin)``) and of the rail and the sleepers (which move by the ratio of the
+    chain's stiffness to that of ballast and subgrade). 1.5 %: the default is rounded to 1 MN/m."""
+    d = yaml.safe_load((DATA / "zhai2004_ballasted_track.yaml").read_text())
+    k_ballast = _series(d["ballast"]["stiffness_N_per_m"], d["subgrade"]["stiffness_N_per_m"])
+    k_seat = _series(d["pad"]["stiffness_N_per_m"], k_ballast)
+    spacing = d["sleeper"]["spacing_m"]
+    s = k_seat / spacing
+    ei = d["rail"]["youngs_modulus_Pa"] * d["rail"]["second_moment_m4"]
+    beta = (s / (4.0 * ei)) ** 0.25
+    default = ElasticTrack()
+    assert default.vertical_stiffness_N_per_m == pytest.approx(2.0 * s / beta, rel=0.015)
+    # the closed-form integral of the shape against a numerical one (an independent check)
+    x = np.linspace(0.0, 40.0 / beta, 400001)
+    shape = np.exp(-beta * x) * (np.cos(beta * x) + np.sin(beta * x))
+    assert 2.0 * np.trapezoid(shape**2, x) == pytest.approx(1.5 / beta, rel=1e-6)
+    rail = 1.5 / beta * d["rail"]["mass_per_length_kg_per_m"]
+    sleepers = 1.5 / beta * d["sleeper"]["mass_kg"] / spacing * (k_seat / k_ballast) ** 2
+    assert rail == pytest.approx(79.0, abs=1.0)  # the numbers docs/curving.md quotes
+    assert rail + sleepers == pytest.approx(166.0, abs=1.0)
+    assert rail < default.rail_mass_kg < rail + sleepers
 
 
 def test_track_model_parsing():
