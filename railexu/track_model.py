@@ -7,11 +7,16 @@ section" of Knothe & Grassie 1993, Modelling of railway track and vehicle/track 
 high frequencies, Vehicle System Dynamics 22, 209-262, reduced to one mass per rail and
 wheel). The rail masses' coordinates are measured from their statically loaded position.
 
-Defaults (per rail and wheelset): lateral 40 MN/m and 100 kN s/m, vertical 100 MN/m and
-100 kN s/m, 150 kg. These are engineering estimates in the range the literature reports for
-ballasted track (lateral rail-head stiffness of some 40 MN/m per rail, a vertical track
-stiffness of 50-100 MN/m per wheel, damping of the order of 10^5 N s/m); a project should set
-its own measured or published values.
+Defaults (per rail and wheelset; docs/curving.md gives the sources and the mapping):
+
+- vertical stiffness 81 MN/m: the static point stiffness of the ballasted track of Zhai, Wang &
+  Lin (2004, Modelling and experiment of railway ballast vibrations, J. Sound Vib. 270,
+  673-683) as a beam on a Winkler foundation (Hetenyi 1946): ``2 s / beta``;
+- mass 150 kg: between the kinetic-energy-equivalent masses of that track's rail (79 kg) and of
+  its rail and sleepers (166 kg);
+- lateral 40 MN/m and 100 kN s/m, vertical damping 100 kN s/m: orders of magnitude, not taken
+  from a published lumped data set (none could be read for this work): set measured or
+  published values for a project.
 """
 
 from __future__ import annotations
