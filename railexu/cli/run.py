@@ -233,7 +233,10 @@ def format_summary(summary) -> str:
         lines.append("no flange contact")
     lines.append(_hunting_line(summary.get("hunting") or {}))
     if summary.get("max_abs_lateral_force_N") is not None:
-        lines.append(f"max |Y|: {summary['max_abs_lateral_force_N'] / 1e3:.2f} kN")
+        lines.append(
+            f"max |Y| (raw samples, unfiltered; not a verdict): "
+            f"{summary['max_abs_lateral_force_N'] / 1e3:.2f} kN"
+        )
     assessment = summary.get("assessment") or {}
     for name, c in (assessment.get("criteria") or {}).items():
         lines.append("  " + _criterion_line(name, c))

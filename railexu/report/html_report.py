@@ -241,7 +241,7 @@ def _result_rows(summary: dict) -> list[tuple]:
         rows.append(("hunting wavelength [m]", float(h["wavelength_m"]), "", ""))
         rows.append(("hunting frequency [Hz]", float(h["frequency_Hz"]), "", ""))
     if "max_abs_lateral_force_N" in summary:
-        rows.append(("max |Y| [kN]", summary["max_abs_lateral_force_N"] / 1e3, "", ""))
+        rows.append(("max |Y|, raw samples [kN]", summary["max_abs_lateral_force_N"] / 1e3, "", ""))
     yq = summary.get("max_Y_over_Q") or {}
     if "pass" in yq and yq.get("value_en14363") is not None:  # the assessment's EN 14363 form
         rows.append(("max Y/Q (EN 14363) [-]", float(yq["value_en14363"]),
