@@ -14,9 +14,10 @@ Defaults (per rail and wheelset; docs/curving.md gives the sources and the mappi
   673-683) as a beam on a Winkler foundation (Hetenyi 1946): ``2 s / beta``;
 - mass 150 kg: between the kinetic-energy-equivalent masses of that track's rail (79 kg) and of
   its rail and sleepers (166 kg);
-- lateral 40 MN/m and 100 kN s/m, vertical damping 100 kN s/m: orders of magnitude, not taken
-  from a published lumped data set (none could be read for this work): set measured or
-  published values for a project.
+- lateral 32 MN/m and 80 kN s/m, vertical damping 110 kN s/m: the fastener of Huo & Dai (2019,
+  Formulation of a linearized model for vehicle-track interactions, Shock and Vibration 2019,
+  2015465, Table 2) on a 60 kg/m rail by the same mapping (a slab track's fastener: ballasted
+  track is laterally softer); set measured or published values for a project.
 """
 
 from __future__ import annotations

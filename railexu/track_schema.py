@@ -93,23 +93,29 @@ TRACK_MODEL = {
             # (79 kg) and of rail and sleepers (166 kg) under the data of Zhai, Wang & Lin 2004
             Field("rail_mass", "co-running mass per rail and wheelset (rail and sleepers "
                   "moving with it)", unit="kg", default=150.0, positive=True),
-            # 40 MN/m, 1e5 N s/m: the order of magnitude issue 9 states; no published lumped
-            # lateral parameter set was read (docs/curving.md): set your own
+            # 32 MN/m, 80 kN s/m: the fastener of Huo & Dai (2019, Formulation of a linearized
+            # model for vehicle-track interactions, Shock and Vibration 2019, 2015465, Table 2:
+            # 15 MN/m, 50 kN s/m per fastener) on a 60 kg/m rail as a Winkler beam, seats 0.6 m
+            # apart (tests/data/huo_dai2019_fastener.yaml; tests/test_elastic_track.py); a slab
+            # track's: ballasted track is laterally softer
             Field("lateral_stiffness", "lateral stiffness of a rail to ground", unit="N/m",
-                  default=40.0e6, positive=True),
+                  default=32.0e6, positive=True),
             Field("lateral_damping", "lateral damping of a rail to ground", unit="N s/m",
-                  default=1.0e5, minimum=0.0),
+                  default=8.0e4, minimum=0.0),
             # 81 MN/m: Winkler-beam point stiffness 2 s / beta of the ballasted track of Zhai,
             # Wang & Lin (2004, Modelling and experiment of railway ballast vibrations, J. Sound
             # Vib. 270, 673-683): pad, ballast and subgrade in series, sleepers 0.6 m apart
             # (tests/data/zhai2004_ballasted_track.yaml; tests/test_elastic_track.py)
             Field("vertical_stiffness", "vertical stiffness of a rail to ground (pad, ballast, "
                   "subgrade)", unit="N/m", default=81.0e6, positive=True),
+            # 110 kN s/m: the fastener's vertical damping of Huo & Dai (2019; 50 kN s/m per
+            # fastener) over the vertical deflection shape of the Zhai track (108 kN s/m)
             Field("vertical_damping", "vertical damping of a rail to ground", unit="N s/m",
-                  default=1.0e5, minimum=0.0),
+                  default=1.1e5, minimum=0.0),
         ),
         "A co-running mass under each wheel with springs and dampers to ground; vertical "
-        "stiffness from Zhai, Wang & Lin (2004), the other defaults order-of-magnitude values "
+        "stiffness from the ballasted track of Zhai, Wang & Lin (2004), lateral stiffness and "
+        "the dampings from the fastener of Huo & Dai (2019), mapped by a Winkler beam "
         "(docs/curving.md gives the sources and the mapping).",
     ),
 }  # fmt: skip

@@ -52,6 +52,34 @@ def test_vertical_defaults_map_the_published_ballasted_track_of_zhai_2004():
     assert rail < default.rail_mass_kg < rail + sleepers
 
 
+def test_lateral_and_damping_defaults_map_the_published_fastener_of_huo_dai_2019():
+    """The default lateral stiffness is the Winkler-beam point stiffness ``2 s / beta`` of a
+    60 kg/m rail (lateral second moment of Huo & Dai 2019, Young's modulus of Zhai 2004) on the
+    fasteners of Huo & Dai (2019; tests/data/huo_dai2019_fastener.yaml), seats 0.6 m apart; the
+    default dampings are the fastener dampings as a distributed damper ``c / spacing`` under the
+    static deflection shape, ``3 / (2 beta)`` times it (the same integral as the co-running mass),
+    laterally with the lateral beta, vertically with that of the Zhai track. 2 %: the defaults
+    are rounded to two digits."""
+    f = yaml.safe_load((DATA / "huo_dai2019_fastener.yaml").read_text())
+    z = yaml.safe_load((DATA / "zhai2004_ballasted_track.yaml").read_text())
+    spacing = z["sleeper"]["spacing_m"]
+    e = z["rail"]["youngs_modulus_Pa"]
+    default = ElasticTrack()
+    s_lat = f["fastener"]["lateral_stiffness_N_per_m"] / spacing
+    beta_lat = (s_lat / (4.0 * e * f["rail"]["lateral_second_moment_m4"])) ** 0.25
+    assert default.lateral_stiffness_N_per_m == pytest.approx(2.0 * s_lat / beta_lat, rel=0.02)
+    c_lat = f["fastener"]["lateral_damping_N_s_per_m"] / spacing * 1.5 / beta_lat
+    assert default.lateral_damping_N_s_per_m == pytest.approx(c_lat, rel=0.02)
+    k_ballast = _series(z["ballast"]["stiffness_N_per_m"], z["subgrade"]["stiffness_N_per_m"])
+    s_vert = _series(z["pad"]["stiffness_N_per_m"], k_ballast) / spacing
+    beta_vert = (s_vert / (4.0 * e * z["rail"]["second_moment_m4"])) ** 0.25
+    c_vert = f["fastener"]["vertical_damping_N_s_per_m"] / spacing * 1.5 / beta_vert
+    assert default.vertical_damping_N_s_per_m == pytest.approx(c_vert, rel=0.02)
+    # the numbers docs/curving.md and tests/data/README.md quote
+    assert (2.0 * s_lat / beta_lat, c_lat, c_vert) == pytest.approx((32.2e6, 80.4e3, 108.4e3),
+                                                                    rel=0.002)  # fmt: skip
+
+
 def test_track_model_parsing():
     assert track_model_from_dict(None) is None
     assert track_model_from_dict("rigid") is None
@@ -158,7 +186,7 @@ def test_reported_flange_forces_on_elastic_track_do_not_depend_on_the_step():
     k_y = track.elastic.lateral_stiffness_N_per_m
     stats = []
     for h in (0.5e-3, 0.125e-3):
-        settings = RunSettings(speed_m_per_s=45.0, distance_m=80.0, initial_lateral_m=0.002,
+        settings = RunSettings(speed_m_per_s=45.0, distance_m=120.0, initial_lateral_m=0.002,
                                time_step_s=h, output_interval_s=h)  # fmt: skip
         result = run(vehicle, track, settings)
         ts = result.timeseries
