@@ -211,17 +211,18 @@ def test_importing_railexu_is_cheap():
 
 
 def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
-    """`railexu run --no-plots` (what a study's cases do) never pays matplotlib's import."""
+    """`railexu run --no-plots` (what a study's cases do) never pays matplotlib's import, nor
+    the study layer's."""
     code = (
         "import sys\n"
         "from railexu.cli import main\n"
         f"main(['run', 'wheelset', '--distance', '1', '--no-plots', '--quiet', '--out', "
         f"{str(tmp_path / 'out')!r}])\n"
-        "print('matplotlib' in sys.modules)\n"
+        "print('matplotlib' in sys.modules, 'railexu.study' in sys.modules)\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip().splitlines()[-1] == "False"
+    assert done.stdout.strip().splitlines()[-1] == "False False"
 
 
 def test_warnings_are_printed_on_the_console_too(tmp_path, capsys):

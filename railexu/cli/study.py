@@ -8,13 +8,6 @@ import sys
 import warnings
 from pathlib import Path
 
-from ..study.errors import StudyWarning
-from ..study.folder import PLOTS_DIR, RESULTS_CSV
-from ..study.plots import plot_study
-from ..study.runner import print_study_progress, run_study
-from ..study.spec import load_study
-from ..study.table import STATUSES, read_results
-
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Add the ``study`` sub-command to the ``railexu`` parser's sub-parsers; its function
@@ -51,6 +44,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def command(args: argparse.Namespace) -> int:
+    # imported here: `railexu run` and the other sub-commands do not load the study layer
+    from ..study.errors import StudyWarning
+    from ..study.folder import PLOTS_DIR, RESULTS_CSV
+    from ..study.plots import plot_study
+    from ..study.runner import print_study_progress, run_study
+    from ..study.spec import load_study
+    from ..study.table import STATUSES, read_results
+
     study = load_study(args.study)
     n = len(study.cases())
     err = sys.stderr
