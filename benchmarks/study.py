@@ -12,6 +12,11 @@ The study: the seed scenario (the EU07 from a 2 mm offset on 150 m of ideal stra
   process (``run`` and ``write_run`` without plots, as a case does; workers stay warm: a case
   must not cost more there).
 
+- the machine's own limit: a fixed compiled loop (no railexu, no Exudyn) timed alone and as two
+  copies in two processes at once. If two copies each run slower than one alone, no study can
+  reach 2x on this machine (shared caches, memory bandwidth, a virtual machine's cores); the
+  printed ceiling is 2 divided by that slowdown.
+
 Run: ``python benchmarks/study.py`` (about three minutes on 2 cores; a machine with other load gives
 smaller speed-ups).
 """
@@ -38,6 +43,37 @@ vary:
 collect:
   - max_abs_lateral_force_N
 """
+
+
+def _busy_loop(_job: int = 0) -> float:
+    """A fixed compiled workload (a few MB of arrays, like a run's tables); its wall time."""
+    import numba
+    import numpy as np
+
+    @numba.njit(cache=False)
+    def work(a, n):
+        acc = 0.0
+        for _ in range(n):
+            for i in range(a.size):
+                acc += a[i] * a[(i * 7) % a.size]
+        return acc
+
+    a = np.random.default_rng(0).random(400_000)
+    work(a, 1)  # compile
+    t0 = time.perf_counter()
+    work(a, 60)
+    return time.perf_counter() - t0
+
+
+def machine_slowdown() -> float:
+    """Wall time of the busy loop as one of two simultaneous processes over its time alone."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    alone = _busy_loop()
+    with ProcessPoolExecutor(2) as pool:
+        list(pool.map(_busy_loop, [0, 1]))  # start and compile in both
+        both = list(pool.map(_busy_loop, [0, 1]))
+    return max(both) / alone
 
 
 def main() -> None:
@@ -69,6 +105,11 @@ def main() -> None:
     print(f"  2 worker processes:         {parallel:6.1f} s   speed-up {serial / parallel:4.2f}x")
     print(f"  a case at 17 m/s as a function call: {call:5.2f} s; median case in a worker: "
           f"{in_worker:5.2f} s (ratio {in_worker / call:4.2f})")  # fmt: skip
+    slowdown = machine_slowdown()
+    print(
+        f"  this machine: a compiled loop runs {slowdown:4.2f}x slower as one of two processes "
+        f"than alone; ceiling of any 2-process speed-up {2.0 / slowdown:4.2f}x"
+    )
 
 
 if __name__ == "__main__":
