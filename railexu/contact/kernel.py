@@ -15,11 +15,16 @@ a) *Contact locus.* A wheel is a surface of revolution. For each circle of the w
    parallel to the rail normal, distance along the rail normal) for a straight rail, reduced to
    the single wheel parameter ``s``; :mod:`railexu.contact.search` solves the same conditions as a
    general nonlinear system in the four surface parameters and the tests compare the two.
-b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` is scanned on a coarse
-   grid (``scan_step``); every local minimum is refined to machine precision by a bracketed
-   Illinois iteration on ``g'(s) = 0`` (equal slopes = common normal). Each local minimum with
-   ``g < 0`` is a contact point: one on the tread, or two when tread and flange both touch (the
-   seed's Fig. 8). The normal penetration is ``delta = -g cos(gamma)``.
+b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and its exact slope
+   are scanned on a coarse grid (``scan_step``); every local minimum is refined to machine
+   precision by a bracketed Illinois iteration on ``g'(s) = 0`` (equal slopes = common normal).
+   A minimum hidden between two scan nodes (beside a hump, where a profile's curvature jumps)
+   is searched for by bisection wherever bounds of the gap's curvature
+   (:func:`_curvature_bounds`) cannot rule out one that would carry force
+   (:func:`_hidden_minima`), so that the forces do not depend on the scan grid. Each local
+   minimum with ``g < 0`` is a contact point: one on the tread, or two when tread and flange
+   both touch (the seed's Fig. 8); minima sharing one overlap region are weighted
+   (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
 c) *Normal force.* Hertz's ellipse and stiffness from the principal curvatures of wheel and rail
    at the point (:mod:`railexu.contact.hertz`), and the damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
@@ -374,12 +379,14 @@ def _hidden_minima(sa, ga, dga, sb, gb, dgb, py_a, py_b, up0, down0, stack, wtab
     only if it can turn and come back: with the slope's envelope (rising at most at ``up``,
     falling at most at ``down``) its excursion beyond zero ``v`` must be positive, and the
     prominence of the pair is at most the area ``v^2 (1/up + 1/down) / 2``. The cell is
-    bisected with the exact slope until in every part either ``v <= 0``, or that prominence is
-    below ``P0_ABS + P0_REL * depth``, which :func:`candidate_weights` gives no weight (the
-    depth is at least that of the part's end above the minimum: the slope keeps its sign
-    between them), or no point can penetrate (``min(g_a, g_b) > up h^2 / 8``). A minimum that
-    is missed therefore carries no force, and the normal force does not jump when the scan
-    grid moves over the profile."""
+    bisected with the exact slope (where the excursion would peak; short parts get their own
+    bounds) until in every part either ``v <= 0``, or that prominence is below
+    ``MISSABLE * (P0_ABS + P0_REL * depth)``, which :func:`candidate_weights` gives no weight
+    (the depth is at least that of the part's end above the minimum: the slope keeps its sign
+    between them), or no point can penetrate (``min(g_a, g_b) > up h^2 / 8``), at most
+    ``_MAX_BISECTIONS`` evaluations per cell. A minimum that is missed therefore carries no
+    force, and the normal force does not jump when the scan grid moves over the profile
+    (tests/test_contact_scan_robustness.py)."""
     stack[0] = sa
     stack[1] = ga
     stack[2] = dga
@@ -788,9 +795,10 @@ def candidate_weights(n, cand_g, cand_h, weights):
     hump sinks to its depth (the two minima merge). Which one is the shallower is itself blended
     over a depth band of 10 % of the deeper penetration, and a minimum whose prominence
     ``H - g`` vanishes (it is being born from, or dies into, a flat stretch of the gap, as on
-    the nearly conformal S1002 tread on a 1:40 rail) fades out within 2 % of its depth: the
-    normal force stays continuous when minima appear, merge, separate or change order inside
-    one overlap region.
+    the nearly conformal S1002 tread on a 1:40 rail) fades out within ``P0`` = 2 % of its depth
+    plus 0.2 um (:func:`_fade_in`: no weight below ``MISSABLE P0``, the prominence the search
+    of :func:`_hidden_minima` guarantees to find): the normal force stays continuous when
+    minima appear, merge, separate or change order inside one overlap region.
     """
     for k in range(n):
         weights[k] = 1.0
