@@ -206,7 +206,7 @@ class VehicleModel:
             [wheel_arrays(g.left, width), wheel_arrays(g.right, width)] for g in self.geometries
         ]
         n_max = max(t.shape[0] for pair in wheel for t, _ in pair)
-        self.wtab = np.zeros((n_ws, 2, n_max, 4))
+        self.wtab = np.zeros((n_ws, 2, n_max, wheel[0][0][0].shape[1]))
         self.winfo = np.zeros((n_ws, 2, 5))
         for i, pair in enumerate(wheel):
             for s, (tab, info) in enumerate(pair):
@@ -217,7 +217,7 @@ class VehicleModel:
             rail_arrays(self.geometries[0].right, width),
         ]
         m_max = max(t.shape[0] for t, _ in rails)
-        self.rtab = np.zeros((2, m_max, 4))
+        self.rtab = np.zeros((2, m_max, rails[0][0].shape[1]))
         self.rinfo = np.zeros((2, 3))
         for s, (tab, info) in enumerate(rails):
             self.rtab[s, : tab.shape[0]] = tab

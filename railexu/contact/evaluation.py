@@ -35,10 +35,12 @@ def _smoothed(d2z: np.ndarray, step_m: float, width_m: float) -> np.ndarray:
 def wheel_arrays(
     pair: WheelRailPair, curvature_smoothing_m: float = 5.0e-4
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel table ``[F, F', F'', F''_smooth]`` and info row ``(s0, step, n, r0, tape)``."""
+    """Kernel table ``[F, F', F'', F''_smooth]`` with the kernel's curvature-bound columns
+    (:func:`railexu.contact.kernel.with_block_bounds`) and info row ``(s0, step, n, r0, tape)``.
+    """
     t = pair.wheel_table
     smooth = _smoothed(np.asarray(t.d2z), t.step_m, curvature_smoothing_m)
-    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z, smooth]), dtype=np.float64)
+    tab = K.with_block_bounds(np.column_stack([t.z, t.dz, t.d2z, smooth]), t.step_m)
     info = np.array([t.y0_m, t.step_m, t.z.size, pair.nominal_radius_m, pair.tape_circle_lateral_m])
     return tab, info
 
@@ -46,10 +48,12 @@ def wheel_arrays(
 def rail_arrays(
     pair: WheelRailPair, curvature_smoothing_m: float = 5.0e-4
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel table ``[z, z', z'', z''_smooth]`` over track ``y`` and info ``(y0, step, n)``."""
+    """Kernel table ``[z, z', z'', z''_smooth]`` over track ``y`` with the kernel's
+    curvature-bound columns (:func:`railexu.contact.kernel.with_block_bounds`) and info
+    ``(y0, step, n)``."""
     t = pair.rail_table
     smooth = _smoothed(np.asarray(t.d2z), t.step_m, curvature_smoothing_m)
-    tab = np.ascontiguousarray(np.column_stack([t.z, t.dz, t.d2z, smooth]), dtype=np.float64)
+    tab = K.with_block_bounds(np.column_stack([t.z, t.dz, t.d2z, smooth]), t.step_m)
     return tab, np.array([t.y0_m, t.step_m, t.z.size])
 
 

@@ -15,11 +15,16 @@ a) *Contact locus.* A wheel is a surface of revolution. For each circle of the w
    parallel to the rail normal, distance along the rail normal) for a straight rail, reduced to
    the single wheel parameter ``s``; :mod:`railexu.contact.search` solves the same conditions as a
    general nonlinear system in the four surface parameters and the tests compare the two.
-b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` is scanned on a coarse
-   grid (``scan_step``); every local minimum is refined to machine precision by a bracketed
-   Illinois iteration on ``g'(s) = 0`` (equal slopes = common normal). Each local minimum with
-   ``g < 0`` is a contact point: one on the tread, or two when tread and flange both touch (the
-   seed's Fig. 8). The normal penetration is ``delta = -g cos(gamma)``.
+b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and its exact slope
+   are scanned on a coarse grid (``scan_step``); every local minimum is refined to machine
+   precision by a bracketed Illinois iteration on ``g'(s) = 0`` (equal slopes = common normal).
+   A minimum hidden between two scan nodes (beside a hump, where a profile's curvature jumps)
+   is searched for by bisection wherever bounds of the gap's curvature
+   (:func:`_curvature_bounds`) cannot rule out one that would carry force
+   (:func:`_hidden_minima`), so that the forces do not depend on the scan grid. Each local
+   minimum with ``g < 0`` is a contact point: one on the tread, or two when tread and flange
+   both touch (the seed's Fig. 8); minima sharing one overlap region are weighted
+   (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
 c) *Normal force.* Hertz's ellipse and stiffness from the principal curvatures of wheel and rail
    at the point (:mod:`railexu.contact.hertz`), and the damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
@@ -101,6 +106,40 @@ WI_S0, WI_STEP, WI_N, WI_R0, WI_TAPE = 0, 1, 2, 3, 4
 RI_Y0, RI_STEP, RI_N = 0, 1, 2
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+
+#: Columns of the wheel and rail tables: value, slope, curvature, smoothed curvature (built by
+#: :mod:`railexu.contact.evaluation`), then the curvature-bound columns of
+#: :func:`with_block_bounds`: over each block of ``TABLE_BLOCK`` rows the largest ``|slope|``,
+#: the smallest and the largest curvature and the largest curvature change per metre.
+T_SLOPE_MAX, T_CURV_MIN, T_CURV_MAX, T_CURV_RATE = 4, 5, 6, 7
+N_TABLE_COLUMNS = 8
+TABLE_BLOCK = 16
+
+
+def with_block_bounds(tab: np.ndarray, step_m: float) -> np.ndarray:
+    """The table ``[z, z', z'', z''_smooth]`` (rows on a uniform grid of ``step_m`` [m]) with the
+    four curvature-bound columns ``T_*`` appended: every row holds the values of its block of
+    ``TABLE_BLOCK`` rows (the curvature change of a block's last row is that to the next
+    block's first), so that :func:`_curvature_bounds` reads a few blocks instead of every row
+    of a scan cell."""
+    tab = np.asarray(tab, dtype=np.float64)
+    n = tab.shape[0]
+    rate = np.zeros(n)
+    rate[:-1] = np.abs(np.diff(tab[:, 2])) / step_m
+    blocks = -(-n // TABLE_BLOCK)
+    pad = blocks * TABLE_BLOCK - n
+
+    def per_block(values: np.ndarray, reduce, fill: float) -> np.ndarray:
+        padded = np.concatenate([values, np.full(pad, fill)]).reshape(blocks, TABLE_BLOCK)
+        return np.repeat(reduce(padded, axis=1), TABLE_BLOCK)[:n]
+
+    extra = np.column_stack([
+        per_block(np.abs(tab[:, 1]), np.max, 0.0),
+        per_block(tab[:, 2], np.min, np.inf),
+        per_block(tab[:, 2], np.max, -np.inf),
+        per_block(rate, np.max, 0.0),
+    ])  # fmt: skip
+    return np.ascontiguousarray(np.column_stack([tab[:, :4], extra]))
 
 
 @numba.njit(inline="always", **_JIT)
@@ -210,79 +249,225 @@ def _locus_gap(s, F, F1, F2, rtab, ctx):
 
 
 @numba.njit(inline="always", **_JIT)
-def _scan_gap_slope(s, F, F1, F2, rtab, ctx):
-    """The gap of :func:`_locus_gap` and its slope ``dg/ds`` for the coarse scan only: the
-    rail's height and slope interpolated linearly (0.05 mm table, error ~h^2 z''/8 < 0.1 um,
-    irrelevant for locating minima, which are then refined with the full interpolation); the
-    slope's sign finds minima that the sampled values miss. Returns ``(1e9, 0)`` off the
-    rail."""
-    r = ctx[C_R0] + F
-    u = -F1 * ctx[C_TPSI]
-    w = math.sqrt(max(1.0 - u * u, 1.0e-12))
-    px = r * u
-    py = ctx[C_TAPE] + s
-    pz = -r * w
-    Py = ctx[C_CY] + ctx[C_R21] * px + ctx[C_R22] * py + ctx[C_R23] * pz
-    Pz = ctx[C_CZ] + ctx[C_R31] * px + ctx[C_R32] * py + ctx[C_R33] * pz
-    step = ctx[C_RSTEP]
-    uu = (Py - ctx[C_RY0]) / step
-    n = ctx[C_RN]
-    if uu < 0.0 or uu > n - 1.0:
-        return 1.0e9, 0.0
-    i = int(uu)
-    if i >= n - 1:
-        i = int(n) - 2
-    t = uu - i
-    zr = (1.0 - t) * rtab[i, 0] + t * rtab[i + 1, 0]
-    zr1 = (1.0 - t) * rtab[i, 1] + t * rtab[i + 1, 1]
-    du = -F2 * ctx[C_TPSI]
-    dw = -u * du / w
-    dpx = F1 * u + r * du
-    dpz = -F1 * w - r * dw
-    dPy = ctx[C_R21] * dpx + ctx[C_R22] + ctx[C_R23] * dpz
-    dPz = ctx[C_R31] * dpx + ctx[C_R32] + ctx[C_R33] * dpz
-    return Pz - zr, dPz - zr1 * dPy
-
-
-@numba.njit(**_JIT)
-def _cell_minimum_bracket(sa, sb, ga, dga, gb, dgb, wtab, rtab, ctx):
-    """A bracket ``(lo, hi)`` of a local minimum of the gap inside the scan cell ``[sa, sb]``
-    (``lo >= hi``: none found), from the gap and its slope at the cell's ends.
-
-    - the slope turns upwards (``dga < 0 <= dgb``): the whole cell;
-    - the slope has the same sign at both ends but the cubic Hermite interpolant of the gap
-      says it changes sign twice inside (a minimum and a hump within one cell): the exact slope
-      at the interpolant's slope extremum decides, and the bracket is the part of the cell
-      where the slope turns upwards.
-
-    Only cells touching an overlap (a gap below 0.1 mm at an end) are examined this way."""
-    if dga < 0.0 <= dgb:
-        return sa, sb
-    if min(ga, gb) > 1.0e-4 or (dga < 0.0) != (dgb < 0.0):
-        return 0.0, 0.0
-    h = sb - sa
-    m0 = h * dga
-    m1 = h * dgb
-    # d/dt of the cubic Hermite interpolant on t in [0, 1]: A t^2 + B t + C
-    qa = 6.0 * ga + 3.0 * m0 - 6.0 * gb + 3.0 * m1
-    qb = -6.0 * ga - 4.0 * m0 + 6.0 * gb - 2.0 * m1
-    if qa == 0.0:
-        return 0.0, 0.0
-    t = -qb / (2.0 * qa)
-    if not (0.0 < t < 1.0):
-        return 0.0, 0.0
-    extremum = m0 + qb * t + qa * t * t
-    if (dga < 0.0 and extremum <= 0.0) or (dga >= 0.0 and extremum >= 0.0):
-        return 0.0, 0.0
-    s_mid = sa + t * h
-    g_mid, dg_mid, ok = _gap_at(s_mid, wtab, rtab, ctx)
+def _node_gap(kk, wtab, rtab, ctx):
+    """The gap of :func:`_locus_gap` and its slope ``dg/ds`` at the wheel table's node ``kk``
+    (the wheel's values read from the table, the rail interpolated as everywhere else), and
+    the locus's lateral position on the rail ``Py``. ``(1e9, 0, Py)`` off the rail."""
+    s = ctx[C_WS0] + kk * ctx[C_WSTEP]
+    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2],
+                                                 rtab, ctx)  # fmt: skip
     if not ok:
-        return 0.0, 0.0
-    if dga < 0.0 and dg_mid > 0.0:
-        return sa, s_mid  # down, up (the minimum), down again
-    if dga >= 0.0 and dg_mid < 0.0:
-        return s_mid, sb  # up, down, up (the minimum)
-    return 0.0, 0.0
+        return 1.0e9, 0.0, Py
+    return g, dg, Py
+
+
+@numba.njit(inline="always", **_JIT)
+def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
+    """Bounds ``(up, down)`` of the gap's curvature over the scan cell between the wheel nodes
+    ``ka < kb`` whose locus falls on the rail at ``py_a``, ``py_b``: ``-down <= g'' <= up``
+    [1/m], both ``>= 0``.
+
+    From the second derivative of ``g = Pz - z_r(Py)`` along the locus of :func:`_locus_gap`,
+    ``g'' = -cos(phi) w F'' - z_r'' Py'^2 + E``: the wheel's and the rail's curvature terms
+    with their signs, over the range of ``F''`` at the cell's table nodes and of ``z_r''`` at the
+    rail nodes under it (each range widened by half its width on both sides: the cubic
+    interpolants overshoot where a profile's curvature jumps, e.g. from a line to an arc), and
+    ``E`` (roll and yaw couplings, the rail slope times ``Py''``) bounded in magnitude by the
+    largest slopes, curvatures and curvature changes. A convex stretch (``down = 0``) cannot
+    hide a minimum beside a hump."""
+    rstep = ctx[C_RSTEP]
+    rn = int(ctx[C_RN])
+    ia = max(0, int((min(py_a, py_b) - ctx[C_RY0]) / rstep) - 2)
+    ib = min(rn - 1, int((max(py_a, py_b) - ctx[C_RY0]) / rstep) + 3)
+    w1 = 0.0
+    f2_lo = wtab[ka, 2]
+    f2_hi = f2_lo
+    w3 = 0.0
+    r1 = 0.0
+    z2_lo = rtab[ia, 2]
+    z2_hi = z2_lo
+    blocks = wtab.shape[1] >= N_TABLE_COLUMNS and rtab.shape[1] >= N_TABLE_COLUMNS
+    z3 = 0.0
+    if blocks and kb - ka > 2 * TABLE_BLOCK:
+        for blk in range(ka // TABLE_BLOCK, kb // TABLE_BLOCK + 1):
+            i = blk * TABLE_BLOCK
+            w1 = max(w1, wtab[i, T_SLOPE_MAX])
+            f2_lo = min(f2_lo, wtab[i, T_CURV_MIN])
+            f2_hi = max(f2_hi, wtab[i, T_CURV_MAX])
+            w3 = max(w3, wtab[i, T_CURV_RATE])
+        for blk in range(ia // TABLE_BLOCK, ib // TABLE_BLOCK + 1):
+            i = blk * TABLE_BLOCK
+            r1 = max(r1, rtab[i, T_SLOPE_MAX])
+            z2_lo = min(z2_lo, rtab[i, T_CURV_MIN])
+            z2_hi = max(z2_hi, rtab[i, T_CURV_MAX])
+            z3 = max(z3, rtab[i, T_CURV_RATE])
+        z3 *= rstep
+    else:  # short parts (bisections) or tables without the bound columns: every row
+        for i in range(ka, kb + 1):
+            w1 = max(w1, abs(wtab[i, 1]))
+            c = wtab[i, 2]
+            f2_lo = min(f2_lo, c)
+            f2_hi = max(f2_hi, c)
+            if i < kb:
+                w3 = max(w3, abs(wtab[i + 1, 2] - c))
+        w3 /= ctx[C_WSTEP]
+        for i in range(ia, ib + 1):
+            r1 = max(r1, abs(rtab[i, 1]))
+            c = rtab[i, 2]
+            z2_lo = min(z2_lo, c)
+            z2_hi = max(z2_hi, c)
+            if i < ib:
+                z3 = max(z3, abs(rtab[i + 1, 2] - c))
+    # the cubic interpolants' curvature overshoots that of the nodes by up to the largest jump
+    # between neighbouring nodes
+    spread = w3 * ctx[C_WSTEP]
+    f2_lo -= spread
+    f2_hi += spread
+    w2 = max(abs(f2_lo), abs(f2_hi))
+    z2_lo -= z3
+    z2_hi += z3
+    a = abs(ctx[C_TPSI])
+    r = ctx[C_R0] + 0.1  # wheel radius bound (flange height well below 0.1 m)
+    u = min(w1 * a, 0.5)
+    w = math.sqrt(1.0 - u * u)
+    du = w2 * a
+    d2u = w3 * a
+    dw = u * du / w
+    d2w = (du * du + u * d2u) / w + u * u * du * du / (w * w * w)
+    dpx = w1 * u + r * du
+    dpz = w1 + r * dw
+    d2px = w2 * u + 2.0 * w1 * du + r * d2u
+    d2pz = w2 + 2.0 * w1 * dw + r * d2w
+    spread_y = abs(ctx[C_R21]) * dpx + abs(ctx[C_R23]) * dpz
+    dpy_hi = abs(ctx[C_R22]) + spread_y
+    dpy_lo = max(0.0, abs(ctx[C_R22]) - spread_y)
+    d2py = abs(ctx[C_R21]) * d2px + abs(ctx[C_R23]) * d2pz
+    # E: Pz'' beyond -cos(phi) w F'', and -z_r' Py''
+    e = abs(ctx[C_R31]) * d2px + abs(ctx[C_R33]) * (2.0 * w1 * dw + r * d2w) + r1 * d2py
+    c33 = abs(ctx[C_R33])
+    wheel_up = -f2_lo * (c33 if f2_lo < 0.0 else c33 * w)
+    wheel_down = f2_hi * (c33 if f2_hi > 0.0 else c33 * w)
+    rail_up = -z2_lo * (dpy_hi * dpy_hi if z2_lo < 0.0 else dpy_lo * dpy_lo)
+    rail_down = z2_hi * (dpy_hi * dpy_hi if z2_hi > 0.0 else dpy_lo * dpy_lo)
+    up = 1.25 * max(0.0, wheel_up + rail_up + e) + 1.0e-3
+    down = 1.25 * max(0.0, wheel_down + rail_down + e) + 1.0e-3
+    return up, down
+
+
+#: Prominence ``H - g`` [m] over which a penetrating minimum fades in (:func:`candidate_weights`):
+#: ``P0_REL`` of its penetration plus ``P0_ABS``.
+P0_REL = 0.02
+P0_ABS = 2.0e-7
+#: A minimum-hump pair whose prominence is below this fraction of ``P0`` may be missed by the
+#: scan (:func:`_hidden_minima`); :func:`_fade_in` gives it no weight. Above ``FADE_KNEE`` the
+#: weight is the smoothstep of the seed's version (``3 x^2 - 2 x^3``), unchanged.
+MISSABLE = 0.025
+FADE_KNEE = 0.05
+#: Most bisections of one scan cell in the search for hidden minima.
+_MAX_BISECTIONS = 40
+_STACK = 48
+
+
+@numba.njit(inline="always", **_JIT)
+def _hidden_minima(sa, ga, dga, sb, gb, dgb, py_a, py_b, up0, down0, stack, wtab, rtab, ctx,
+                   n_found, cand_s, cand_g):  # fmt: skip
+    """Minima hidden in the scan cell ``[sa, sb]`` whose gap slope has the same sign at both
+    ends (a minimum and a hump between two nodes), with ``-down <= g'' <= up`` over the cell
+    (:func:`_curvature_bounds`). Returns the new number of candidates.
+
+    A slope that keeps its sign at both ends of a part of width ``h`` changes sign twice inside
+    only if it can turn and come back: with the slope's envelope (rising at most at ``up``,
+    falling at most at ``down``) its excursion beyond zero ``v`` must be positive, and the
+    prominence of the pair is at most the area ``v^2 (1/up + 1/down) / 2``. The cell is
+    bisected with the exact slope (where the excursion would peak; short parts get their own
+    bounds) until in every part either ``v <= 0``, or that prominence is below
+    ``MISSABLE * (P0_ABS + P0_REL * depth)``, which :func:`candidate_weights` gives no weight
+    (the depth is at least that of the part's end above the minimum: the slope keeps its sign
+    between them), or no point can penetrate (``min(g_a, g_b) > up h^2 / 8``), at most
+    ``_MAX_BISECTIONS`` evaluations per cell. A minimum that is missed therefore carries no
+    force, and the normal force does not jump when the scan grid moves over the profile
+    (tests/test_contact_scan_robustness.py)."""
+    stack[0] = sa
+    stack[1] = ga
+    stack[2] = dga
+    stack[3] = sb
+    stack[4] = gb
+    stack[5] = dgb
+    top = 1
+    evaluations = 0
+    while top > 0 and evaluations < _MAX_BISECTIONS:
+        top -= 1
+        o = 6 * top
+        a = stack[o]
+        g_a = stack[o + 1]
+        d_a = stack[o + 2]
+        b = stack[o + 3]
+        g_b = stack[o + 4]
+        d_b = stack[o + 5]
+        h = b - a
+        if h < 0.25 * (sb - sa):
+            # a short part: its own (tighter) bounds from its nodes; the locus's place on the
+            # rail interpolated linearly (within 0.1 h of it; the bounds take 2 rail nodes more)
+            ka = int((a - ctx[C_WS0]) / ctx[C_WSTEP])
+            kb = int((b - ctx[C_WS0]) / ctx[C_WSTEP]) + 1
+            pa = py_a + (a - sa) / (sb - sa) * (py_b - py_a)
+            pb = py_a + (b - sa) / (sb - sa) * (py_b - py_a)
+            up, down = _curvature_bounds(ka, kb, pa, pb, wtab, rtab, ctx)
+        else:
+            up = up0
+            down = down0
+        if min(g_a, g_b) > 0.125 * up * h * h:
+            continue
+        if d_a < 0.0:  # falling: rises to a minimum (at most at up), falls after the hump
+            first = up
+            second = down
+            g_up = g_a
+        else:  # rising: falls to a hump first, rises after the minimum
+            first = down
+            second = up
+            g_up = g_b
+        # the slope's envelope: |d_a| - first (s - a) towards zero from a, |d_b| - second (b - s)
+        # from b; where they meet (x from a) the excursion beyond zero is largest
+        x = (second * h + abs(d_a) - abs(d_b)) / (first + second)
+        x = min(max(x, 0.0), h)
+        v = first * x - abs(d_a)
+        if v <= 0.0:
+            continue
+        prominence = 0.5 * v * v * (1.0 / first + 1.0 / second)
+        if prominence < MISSABLE * (P0_ABS + P0_REL * max(0.0, -g_up)):
+            continue
+        # split where the slope's excursion would peak: a hidden pair lies around it
+        m = a + min(max(x, 0.05 * h), 0.95 * h)
+        g_m, d_m, ok = _gap_at(m, wtab, rtab, ctx)
+        evaluations += 1
+        if not ok:
+            continue
+        if (d_m < 0.0) != (d_a < 0.0):
+            # the slope changed sign twice: a minimum and a hump; the minimum is where the
+            # slope turns upwards
+            lo = a if d_a < 0.0 else m
+            hi = m if d_a < 0.0 else b
+            s_ref = _refine_minimum(lo, hi, wtab, rtab, ctx)
+            g_ref = _gap_at(s_ref, wtab, rtab, ctx)[0]
+            n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+            continue
+        if top + 2 > _STACK:
+            continue
+        o = 6 * top
+        stack[o] = a
+        stack[o + 1] = g_a
+        stack[o + 2] = d_a
+        stack[o + 3] = m
+        stack[o + 4] = g_m
+        stack[o + 5] = d_m
+        stack[o + 6] = m
+        stack[o + 7] = g_m
+        stack[o + 8] = d_m
+        stack[o + 9] = b
+        stack[o + 10] = g_b
+        stack[o + 11] = d_b
+        top += 2
+    return n_found
 
 
 @numba.njit(inline="always", **_JIT)
@@ -306,7 +491,7 @@ def _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g):
     return n_found
 
 
-@numba.njit(**_JIT)
+@numba.njit(inline="always", **_JIT)
 def _gap_at(s, wtab, rtab, ctx):
     """``(g, dg/ds, ok)`` at wheel coordinate ``s`` (outside the tables: ``g = 1e9``)."""
     F, F1, F2, okw = _hermite(wtab, ctx[C_WS0], ctx[C_WSTEP], int(ctx[C_WN]), s)
@@ -344,23 +529,33 @@ def _golden(sa, sb, wtab, rtab, ctx, sign, iterations):
 
 @numba.njit(**_JIT)
 def _refine_minimum(sa, sb, wtab, rtab, ctx):
-    """Refine a local minimum of the gap bracketed by ``[sa, sb]``.
+    """Refine a local minimum of the gap bracketed by ``[sa, sb]`` (see :func:`_refine`)."""
+    return _refine(sa, sb, wtab, rtab, ctx, 1.0)
 
-    Illinois iteration on ``g'(s) = 0`` (superlinear); where ``g'`` does not change sign over
-    the bracket (two shallow minima in one scan cell, or a minimum at the bracket's end) a
-    golden-section search on ``g`` instead, which always converges to a local minimum.
+
+@numba.njit(**_JIT)
+def _refine(sa, sb, wtab, rtab, ctx, sign):
+    """Refine a local minimum of ``sign * g`` bracketed by ``[sa, sb]`` (``sign = -1``: a
+    maximum, the hump between two minima).
+
+    Illinois iteration on ``sign * g'(s) = 0`` (superlinear); where the slope does not change
+    sign over the bracket (two shallow minima in one scan cell, or a minimum at the bracket's
+    end) a golden-section search instead, which always converges to a local minimum.
     """
     ga, fa, oka = _gap_at(sa, wtab, rtab, ctx)
     gb, fb, okb = _gap_at(sb, wtab, rtab, ctx)
+    fa *= sign
+    fb *= sign
     if not (oka and okb) or fa >= 0.0 or fb <= 0.0:
-        return _golden(sa, sb, wtab, rtab, ctx, 1.0, 48)
+        return _golden(sa, sb, wtab, rtab, ctx, sign, 48)
     side = 0
     s = 0.5 * (sa + sb)
     for _ in range(60):
         s = (sa * fb - sb * fa) / (fb - fa)
         g, f, ok = _gap_at(s, wtab, rtab, ctx)
+        f *= sign
         if not ok:
-            return _golden(sa, sb, wtab, rtab, ctx, 1.0, 48)
+            return _golden(sa, sb, wtab, rtab, ctx, sign, 48)
         if f > 0.0:
             sb = s
             fb = f
@@ -376,6 +571,30 @@ def _refine_minimum(sa, sb, wtab, rtab, ctx):
         if sb - sa < 1.0e-11 or abs(f) < 1.0e-13:
             break
     return s
+
+
+def _scan_cell_py(ka, ga, dga, pya, kb, gb, dgb, pyb, stack, wtab, rtab, ctx, n_found, cand_s,
+               cand_g):  # fmt: skip
+    """The minima between the wheel nodes ``ka < kb`` (both on the rail) from the gap, its
+    exact slope and the locus's place on the rail at both: the slope turns upwards (the
+    minimum, refined), or it keeps its sign and the cell touches the overlap (a gap below
+    0.1 mm at an end; :func:`_hidden_minima`). Returns the new number of candidates."""
+    s_a = ctx[C_WS0] + ka * ctx[C_WSTEP]
+    s_b = ctx[C_WS0] + kb * ctx[C_WSTEP]
+    if dga < 0.0 <= dgb:
+        s_ref = _refine_minimum(s_a, s_b, wtab, rtab, ctx)
+        g_ref = _gap_at(s_ref, wtab, rtab, ctx)[0]
+        return _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+    if min(ga, gb) <= 1.0e-4 and (dga < 0.0) == (dgb < 0.0):
+        up, down = _curvature_bounds(ka, kb, pya, pyb, wtab, rtab, ctx)
+        return _hidden_minima(s_a, ga, dga, s_b, gb, dgb, pya, pyb, up, down, stack, wtab, rtab,
+                              ctx, n_found, cand_s, cand_g)  # fmt: skip
+    return n_found
+
+
+#: inlined in the scan's loop; called (not inlined) for the parts of the cells at the rail's edges
+_scan_cell = numba.njit(inline="always", **_JIT)(_scan_cell_py)
+_scan_edge_cell = numba.njit(**_JIT)(_scan_cell_py)
 
 
 @numba.njit(**_JIT)
@@ -428,84 +647,82 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     n_found = 0
     if k_hi <= k_lo or not (r22 > 0.1):
         return 0  # the wheel is nowhere above its rail (or the wheelset is upside down)
-    g_prev2 = 1.0e9
-    g_prev1 = 1.0e9
+    # The gap and its exact slope at the scan nodes (kept for the humps below), then every
+    # local minimum, cell by cell:
+    # - the slope turns upwards between two nodes: the minimum, refined;
+    # - the slope keeps its sign but the cell touches the overlap (a gap below 0.1 mm at an
+    #   end): a minimum and a hump may hide inside (the S1002 flange beside the flat hump at
+    #   the line-to-arc joint of its flank, on a 60E1 gauge corner): _hidden_minima;
+    # - the cell where the locus comes onto (leaves) the rail: a minimum between the rail's
+    #   edge and the first (last) node when the slope there rises (falls).
+    n_nodes = (k_hi - k_lo) // stride + 1
+    work = np.empty(2 * n_nodes + 6 * _STACK)
+    scan_g = work[0:n_nodes]
+    scan_dg = work[n_nodes : 2 * n_nodes]
+    stack = work[2 * n_nodes :]
+    g_prev = 1.0e9
     dg_prev = 0.0
-    k_prev1 = -1
-    k_prev2 = -1
-    # each ordinary minimum is seen by two rules below (the sampled values, and the slope
-    # turning upwards in its cell); the second refinement of the same minimum is skipped: the
-    # one refined first is kept either way (_add_candidate drops duplicates)
-    value_s = np.nan  # minimum refined by the value rule in this iteration
-    cell_s = np.nan  # minimum refined by the slope rule in the previous iteration
-    # the scanned gaps are kept for the humps between minima below
-    n_scan = (k_hi - k_lo) // stride + 2
-    scan_g = np.empty(n_scan)
-    j_scan = 0
-    k = k_lo
-    while k <= k_hi + stride:
-        kk = k if k <= k_hi else k_hi
-        s = ws0 + kk * wstep
-        g, dg = _scan_gap_slope(s, wtab[kk, 0], wtab[kk, 1], wtab[kk, 2], rtab, ctx)
-        if k > k_hi:
-            g = 1.0e9  # the sentinel that closes a minimum at the edge
-        elif j_scan < n_scan:
-            scan_g[j_scan] = g
-            j_scan += 1
-        value_s = np.nan
-        # the slope rule found this minimum in the previous cell, and the slope rises through
-        # the rest of the bracket: the same minimum
-        seen = k_prev2 >= 0 and dg > 0.0 and ws0 + k_prev2 * wstep <= cell_s
-        seen = seen and cell_s <= ws0 + k_prev1 * wstep
-        if k_prev1 >= 0 and g_prev1 < 1.0e8 and g_prev1 <= g_prev2 and g_prev1 < g and not seen:
-            # local minimum at k_prev1, bracketed by its neighbours
-            sa = ws0 + (k_prev2 if k_prev2 >= 0 else k_prev1) * wstep
-            sb = ws0 + min(kk, k_hi) * wstep
-            if sb <= sa:
-                sb = sa + wstep
-            s_ref = _refine_minimum(sa, sb, wtab, rtab, ctx)
-            g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
-            # a golden search may end on the bracket's end (no minimum inside): not a point
-            if ok_ref and s_ref - sa > 1.0e-9 and sb - s_ref > 1.0e-9:
-                n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
-                value_s = s_ref
-        cell_s = np.nan
-        # the cell where the locus comes onto (or leaves) the rail: a minimum between the
-        # rail's edge and the first (last) node when the slope there rises (falls)
-        onto = g < 1.0e8 and g_prev1 >= 1.0e8 and dg > 0.0
-        off = g >= 1.0e8 and g_prev1 < 1.0e8 and dg_prev < 0.0
-        if k <= k_hi and k_prev1 >= 0 and (onto or off):
-            s_a = ws0 + k_prev1 * wstep
-            s_ref = _refine_minimum(s_a, s, wtab, rtab, ctx)
-            g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
-            inside = s_ref - s_a > 1.0e-9 and s - s_ref > 1.0e-9
-            if ok_ref and inside and g_ref < min(g_prev1, g):
-                n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
-        if k <= k_hi and k_prev1 >= 0 and g < 1.0e8 and g_prev1 < 1.0e8:
-            # minima that the sampled values may not show: the S1002 flange minimum beside the
-            # flat hump towards the flange root on a 60E1 gauge corner lies within one or two
-            # cells; missing it only at some positions of the scan grid makes the normal force
-            # jump (docs/curving.md)
-            s_a = ws0 + k_prev1 * wstep
-            s_lo, s_hi = _cell_minimum_bracket(s_a, s, g_prev1, dg_prev, g, dg, wtab, rtab, ctx)
-            if dg_prev < 0.0 <= dg and s_a <= value_s <= s:
-                s_hi = s_lo  # the value rule has just refined the minimum of this cell
-            if s_hi > s_lo:
-                s_ref = _refine_minimum(s_lo, s_hi, wtab, rtab, ctx)
-                g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
-                # only a true interior minimum (the scan's linear rail slope may change sign
-                # where the exact slope does not): below the cell's ends, away from them
-                inside = s_ref - s_lo > 1.0e-9 and s_hi - s_ref > 1.0e-9
-                if ok_ref and inside and g_ref < min(g_prev1, g):
-                    n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
-                    if dg_prev < 0.0 <= dg:
-                        cell_s = s_ref
+    py_prev = 0.0
+    k_prev = -1
+    for j in range(n_nodes + 1):
+        if j < n_nodes:
+            kk = k_lo + j * stride
+            g, dg, py = _node_gap(kk, wtab, rtab, ctx)
+            scan_g[j] = g
+            scan_dg[j] = dg
+        else:  # the sentinel that closes a minimum at the edge
+            kk = min(k_prev + stride, wn - 1)
+            g = 1.0e9
+            dg = 0.0
+            py = 0.0
+        if k_prev >= 0 and kk > k_prev:
+            on_a = g_prev < 1.0e8
+            on_b = g < 1.0e8
+            if on_a and on_b:
+                n_found = _scan_cell(k_prev, g_prev, dg_prev, py_prev, kk, g, dg, py, stack,
+                                     wtab, rtab, ctx, n_found, cand_s, cand_g)  # fmt: skip
+            elif on_a or on_b:
+                # the cell where the locus comes onto (leaves) the rail: near the overlap, the
+                # last table node off the rail is found and the part on it scanned like a
+                # cell; a minimum between the rail's edge and the first (last) node on it when
+                # the slope there rises (falls)
+                k_on = kk if on_b else k_prev
+                g_on = g if on_b else g_prev
+                dg_on = dg if on_b else dg_prev
+                py_on = py if on_b else py_prev
+                k_off = k_prev if on_b else kk
+                if g_on <= 1.0e-4:
+                    while abs(k_on - k_off) > 1:
+                        k_mid = (k_on + k_off) // 2
+                        g_mid, dg_mid, py_mid = _node_gap(k_mid, wtab, rtab, ctx)
+                        if g_mid < 1.0e8:
+                            k_on_new = k_mid
+                            if on_b:
+                                n_found = _scan_edge_cell(k_mid, g_mid, dg_mid, py_mid, k_on, g_on,
+                                                     dg_on, py_on, stack, wtab, rtab, ctx,
+                                                     n_found, cand_s, cand_g)  # fmt: skip
+                            else:
+                                n_found = _scan_edge_cell(k_on, g_on, dg_on, py_on, k_mid, g_mid,
+                                                     dg_mid, py_mid, stack, wtab, rtab, ctx,
+                                                     n_found, cand_s, cand_g)  # fmt: skip
+                            k_on = k_on_new
+                            g_on = g_mid
+                            dg_on = dg_mid
+                            py_on = py_mid
+                        else:
+                            k_off = k_mid
+                if (on_b and dg_on > 0.0) or (on_a and dg_on < 0.0):
+                    s_a = ws0 + min(k_on, k_off) * wstep
+                    s_b = ws0 + max(k_on, k_off) * wstep
+                    s_ref = _refine_minimum(s_a, s_b, wtab, rtab, ctx)
+                    g_ref, dg_ref, ok_ref = _gap_at(s_ref, wtab, rtab, ctx)
+                    inside = s_ref - s_a > 1.0e-9 and s_b - s_ref > 1.0e-9
+                    if ok_ref and inside and g_ref < g_on:
+                        n_found = _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
+        g_prev = g
         dg_prev = dg
-        g_prev2 = g_prev1
-        k_prev2 = k_prev1
-        g_prev1 = g
-        k_prev1 = kk
-        k += stride
+        py_prev = py
+        k_prev = kk
     # sort by s (insertion sort, at most MAX_POINTS entries)
     for i in range(1, n_found):
         j = i
@@ -517,29 +734,34 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             cand_s[j - 1] = ts
             cand_g[j - 1] = tg
             j -= 1
-    # humps between neighbouring minima: the highest scan node between them, refined
+    # humps between neighbouring overlapping minima (only those matter, candidate_weights),
+    # refined to machine precision with the exact gap: approximate humps (the highest scan
+    # node, a short search) made the weights, and the normal force, jump by tens of newtons
+    # where the highest node changed. The hump lies where the slope turns downwards: between
+    # the last scan node after the first minimum whose slope still rises and the next one.
     for i in range(n_found - 1):
         if cand_g[i] >= 0.0 or cand_g[i + 1] >= 0.0:
-            continue  # only humps between two overlaps matter (candidate_weights)
+            continue
         sa = cand_s[i]
         sb = cand_s[i + 1]
-        # highest scanned node strictly between the two minima, then a golden refinement
-        best_s = 0.5 * (sa + sb)
-        best_g = _gap_at(best_s, wtab, rtab, ctx)[0]
-        j = max(0, int((sa - ws0 - k_lo * wstep) / (stride * wstep)) + 1)
-        while j < j_scan:
-            sk = ws0 + (k_lo + j * stride) * wstep
-            if sk >= sb:
-                break
-            if scan_g[j] > best_g:
-                best_g = scan_g[j]
-                best_s = sk
-            j += 1
-        h = stride * wstep
-        lo = max(sa, best_s - h)
-        hi = min(sb, best_s + h)
-        s_max = _golden(lo, hi, wtab, rtab, ctx, -1.0, 16)
-        cand_h[i] = max(best_g, _gap_at(s_max, wtab, rtab, ctx)[0])
+        lo = sa + 1.0e-9
+        hi = sb - 1.0e-9
+        if hi > lo:
+            j = max(0, int((sa - ws0 - k_lo * wstep) / (stride * wstep)))
+            while j < n_nodes:
+                sk = ws0 + (k_lo + j * stride) * wstep
+                if sk >= hi:
+                    break
+                if sk > lo:
+                    if scan_dg[j] < 0.0:
+                        hi = sk
+                        break
+                    lo = sk
+                j += 1
+            s_max = _refine(lo, hi, wtab, rtab, ctx, -1.0)
+            cand_h[i] = max(_gap_at(s_max, wtab, rtab, ctx)[0], cand_g[i], cand_g[i + 1])
+        else:
+            cand_h[i] = max(cand_g[i], cand_g[i + 1])
     return n_found
 
 
@@ -550,6 +772,16 @@ def _smoothstep(x):
     if x >= 1.0:
         return 1.0
     return x * x * (3.0 - 2.0 * x)
+
+
+@numba.njit(inline="always", **_JIT)
+def _fade_in(x):
+    """Weight of a minimum of relative prominence ``x = (H - g) / P0``: the smoothstep of ``x``
+    above ``FADE_KNEE``; below it the smoothstep falls to zero at ``MISSABLE`` (continuous at
+    the knee), so that a minimum the scan may miss (``_hidden_minima``) carries no force."""
+    if x >= FADE_KNEE:
+        return _smoothstep(x)
+    return _smoothstep(FADE_KNEE) * _smoothstep((x - MISSABLE) / (FADE_KNEE - MISSABLE))
 
 
 @numba.njit(**_JIT)
@@ -563,9 +795,10 @@ def candidate_weights(n, cand_g, cand_h, weights):
     hump sinks to its depth (the two minima merge). Which one is the shallower is itself blended
     over a depth band of 10 % of the deeper penetration, and a minimum whose prominence
     ``H - g`` vanishes (it is being born from, or dies into, a flat stretch of the gap, as on
-    the nearly conformal S1002 tread on a 1:40 rail) fades out within 2 % of its depth: the
-    normal force stays continuous when minima appear, merge, separate or change order inside
-    one overlap region.
+    the nearly conformal S1002 tread on a 1:40 rail) fades out within ``P0`` = 2 % of its depth
+    plus 0.2 um (:func:`_fade_in`: no weight below ``MISSABLE P0``, the prominence the search
+    of :func:`_hidden_minima` guarantees to find): the normal force stays continuous when
+    minima appear, merge, separate or change order inside one overlap region.
     """
     for k in range(n):
         weights[k] = 1.0
@@ -580,9 +813,9 @@ def candidate_weights(n, cand_g, cand_h, weights):
         sa = _smoothstep((hump - ga) / (-ga))
         sb = _smoothstep((hump - gb) / (-gb))
         # a minimum being born or dying in the overlap (its prominence H - g -> 0) fades out
-        # over a depth of 2 % of its penetration (plus 0.2 um), whichever one it is
-        ca = _smoothstep((hump - ga) / (0.02 * (-ga) + 2.0e-7))
-        cb = _smoothstep((hump - gb) / (0.02 * (-gb) + 2.0e-7))
+        # over a depth P0 of 2 % of its penetration (plus 0.2 um), whichever one it is
+        ca = _fade_in((hump - ga) / (P0_REL * (-ga) + P0_ABS))
+        cb = _fade_in((hump - gb) / (P0_REL * (-gb) + P0_ABS))
         # ... and only a minimum that exists (c = 1) can take load off its neighbour
         weights[i] *= (1.0 - theta_a * cb * (1.0 - sa)) * ca
         weights[i + 1] *= (1.0 - (1.0 - theta_a) * ca * (1.0 - sb)) * cb
