@@ -13,6 +13,10 @@ import math
 
 import numba
 
+from .compiled_cache import refresh
+
+refresh()  # numba's cache follows the current sources (railexu/compiled_cache.py)
+
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
 

@@ -53,6 +53,7 @@ LAYERS: dict[str, int] = {
     "railexu.curving": 6,
     "railexu.simulation": 6,
     "railexu.recorder": 6,
+    "railexu.compiled_cache": 0,
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,
