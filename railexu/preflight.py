@@ -158,12 +158,6 @@ def check_initial_offset(vehicle, track, settings) -> list[str]:
 #: Chung & Hulbert 1993); above, the mode's single-step force peaks depend on the step.
 MAX_OMEGA_STEP = 1.0
 
-#: Damping ratio of the rail masses' contact mode above which an unresolved mode is not warned
-#: about: a light rail (5 kg, damping ratio about 0.45 with the default dampers) gave the same
-#: raw and filtered flange forces at 0.125, 0.25, 0.5 and 1 ms (docs/curving.md), the default
-#: 150 kg rail (about 0.08) did not.
-WELL_DAMPED_RATIO = 0.3
-
 
 def rail_contact_mode_rad_per_s(vehicle, track) -> float | None:
     """Angular frequency of an elastic track's rail mass on the stiffer of its ground spring
@@ -200,19 +194,9 @@ def rail_contact_mode_rad_per_s(vehicle, track) -> float | None:
     return math.sqrt((k_rail + k_contact) / elastic.rail_mass_kg)
 
 
-def rail_contact_mode_damping_ratio(track, omega_rad_per_s: float) -> float:
-    """Damping ratio ``c / (2 m omega)`` of the rail masses' contact mode at ``omega`` (from
-    :func:`rail_contact_mode_rad_per_s`), with the smaller of the rail's lateral and vertical
-    dampers (the contact itself adds little damping at these frequencies)."""
-    elastic = track.elastic
-    c = min(elastic.lateral_damping_N_s_per_m, elastic.vertical_damping_N_s_per_m)
-    return c / (2.0 * elastic.rail_mass_kg * omega_rad_per_s)
-
-
 def check_time_step_for_track(vehicle, track, settings) -> list[str]:
     """On an elastic track, a warning naming ``time_step`` when the step does not resolve the
-    rail masses' contact mode (:func:`rail_contact_mode_rad_per_s`) and that mode is lightly
-    damped (:data:`WELL_DAMPED_RATIO`). Measured on the EU07 bogie
+    rail masses' contact mode (:func:`rail_contact_mode_rad_per_s`). Measured on the EU07 bogie
     at 45 m/s (docs/curving.md): the hunting amplitude, the rails' spring forces and the 20 Hz
     low-pass wheel-rail forces do not depend on the step, the unfiltered force peaks do, and
     have not converged even far below this step (236, 274, 409, 539 kN at 0.5, 0.25, 0.125,
@@ -222,7 +206,7 @@ def check_time_step_for_track(vehicle, track, settings) -> list[str]:
         return []
     h_max = MAX_OMEGA_STEP / omega
     h = float(settings.time_step_s)
-    if h <= h_max or rail_contact_mode_damping_ratio(track, omega) >= WELL_DAMPED_RATIO:
+    if h <= h_max:
         return []
     return [
         f"time_step: {h * 1e3:g} ms does not resolve the elastic track's rail-mass contact mode "
