@@ -199,8 +199,8 @@ def check_time_step_for_track(vehicle, track, settings) -> list[str]:
     rail masses' contact mode (:func:`rail_contact_mode_rad_per_s`). Measured on the EU07 bogie
     at 45 m/s (docs/curving.md): the hunting amplitude, the rails' spring forces and the 20 Hz
     low-pass wheel-rail forces do not depend on the step, the unfiltered force peaks do, and
-    have not converged even far below this step (281, 314, 459, 525 kN at 0.5, 0.25, 0.125,
-    0.0625 ms with the default track)."""
+    have not converged even far below this step (236, 274, 409, 539 kN at 0.5, 0.25, 0.125,
+    0.0625 ms with the default track, before the contact search's rework)."""
     omega = rail_contact_mode_rad_per_s(vehicle, track)
     if omega is None:
         return []
