@@ -262,6 +262,34 @@ def _node_gap(kk, wtab, rtab, ctx):
 
 
 @numba.njit(inline="always", **_JIT)
+def _table_bounds(tab, a, b, use_blocks):
+    """Over the profile table rows ``a..b``: the largest slope magnitude, the smallest and
+    largest curvature, and the largest curvature change, from the per-block bound columns
+    (``use_blocks``: the rate per metre) or from every row (the jump between neighbouring
+    rows)."""
+    slope = 0.0
+    lo = tab[a, 2]
+    hi = lo
+    rate = 0.0
+    if use_blocks:
+        for blk in range(a // TABLE_BLOCK, b // TABLE_BLOCK + 1):
+            i = blk * TABLE_BLOCK
+            slope = max(slope, tab[i, T_SLOPE_MAX])
+            lo = min(lo, tab[i, T_CURV_MIN])
+            hi = max(hi, tab[i, T_CURV_MAX])
+            rate = max(rate, tab[i, T_CURV_RATE])
+    else:
+        for i in range(a, b + 1):
+            slope = max(slope, abs(tab[i, 1]))
+            c = tab[i, 2]
+            lo = min(lo, c)
+            hi = max(hi, c)
+            if i < b:
+                rate = max(rate, abs(tab[i + 1, 2] - c))
+    return slope, lo, hi, rate
+
+
+@numba.njit(inline="always", **_JIT)
 def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
     """Bounds ``(up, down)`` of the gap's curvature over the scan cell between the wheel nodes
     ``ka < kb`` whose locus falls on the rail at ``py_a``, ``py_b``: ``-down <= g'' <= up``
@@ -279,45 +307,17 @@ def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
     rn = int(ctx[C_RN])
     ia = max(0, int((min(py_a, py_b) - ctx[C_RY0]) / rstep) - 2)
     ib = min(rn - 1, int((max(py_a, py_b) - ctx[C_RY0]) / rstep) + 3)
-    w1 = 0.0
-    f2_lo = wtab[ka, 2]
-    f2_hi = f2_lo
-    w3 = 0.0
-    r1 = 0.0
-    z2_lo = rtab[ia, 2]
-    z2_hi = z2_lo
-    blocks = wtab.shape[1] >= N_TABLE_COLUMNS and rtab.shape[1] >= N_TABLE_COLUMNS
-    z3 = 0.0
-    if blocks and kb - ka > 2 * TABLE_BLOCK:
-        for blk in range(ka // TABLE_BLOCK, kb // TABLE_BLOCK + 1):
-            i = blk * TABLE_BLOCK
-            w1 = max(w1, wtab[i, T_SLOPE_MAX])
-            f2_lo = min(f2_lo, wtab[i, T_CURV_MIN])
-            f2_hi = max(f2_hi, wtab[i, T_CURV_MAX])
-            w3 = max(w3, wtab[i, T_CURV_RATE])
-        for blk in range(ia // TABLE_BLOCK, ib // TABLE_BLOCK + 1):
-            i = blk * TABLE_BLOCK
-            r1 = max(r1, rtab[i, T_SLOPE_MAX])
-            z2_lo = min(z2_lo, rtab[i, T_CURV_MIN])
-            z2_hi = max(z2_hi, rtab[i, T_CURV_MAX])
-            z3 = max(z3, rtab[i, T_CURV_RATE])
+    use_blocks = (
+        wtab.shape[1] >= N_TABLE_COLUMNS
+        and rtab.shape[1] >= N_TABLE_COLUMNS
+        and kb - ka > 2 * TABLE_BLOCK
+    )
+    w1, f2_lo, f2_hi, w3 = _table_bounds(wtab, ka, kb, use_blocks)
+    r1, z2_lo, z2_hi, z3 = _table_bounds(rtab, ia, ib, use_blocks)
+    if use_blocks:
         z3 *= rstep
-    else:  # short parts (bisections) or tables without the bound columns: every row
-        for i in range(ka, kb + 1):
-            w1 = max(w1, abs(wtab[i, 1]))
-            c = wtab[i, 2]
-            f2_lo = min(f2_lo, c)
-            f2_hi = max(f2_hi, c)
-            if i < kb:
-                w3 = max(w3, abs(wtab[i + 1, 2] - c))
+    else:
         w3 /= ctx[C_WSTEP]
-        for i in range(ia, ib + 1):
-            r1 = max(r1, abs(rtab[i, 1]))
-            c = rtab[i, 2]
-            z2_lo = min(z2_lo, c)
-            z2_hi = max(z2_hi, c)
-            if i < ib:
-                z3 = max(z3, abs(rtab[i + 1, 2] - c))
     # the cubic interpolants' curvature overshoots that of the nodes by up to the largest jump
     # between neighbouring nodes
     spread = w3 * ctx[C_WSTEP]
