@@ -135,3 +135,28 @@ def test_curvature_bounds_hold(model):
             assert curvature.max() <= up and -curvature.min() <= down
             checked += 1
     assert checked > 50
+
+
+def test_range_bounds_equal_the_loop_over_the_rows(model):
+    """The scan cells' table bounds read from the sparse-table columns (kernel._range_bounds,
+    two reads per bound) are exactly those of the loop over every row they replace, for every
+    run length they serve (1 to 63 rows), anywhere in the wheel and rail tables; runs too long
+    for them keep the loop."""
+    rng = np.random.default_rng(5)
+    for tab in (model.wtab_r, model.rtab_r):
+        assert tab.shape[1] == K.N_TABLE_COLUMNS
+        n = tab.shape[0]
+        for length in range(1, 64):
+            for a in [0, n - length, *rng.integers(0, n - length + 1, 20)]:
+                b = a + length - 1
+                fast = K._table_bounds(tab, a, b, False)
+                rows = tab[a : b + 1]
+                loop = (
+                    np.abs(rows[:, 1]).max(),
+                    rows[:, 2].min(),
+                    rows[:, 2].max(),
+                    np.abs(np.diff(rows[:, 2])).max() if length > 1 else 0.0,
+                )
+                assert fast == loop, (length, a)
+        long = K._table_bounds(tab, 0, 100, False)  # 101 rows: the loop itself
+        assert long[1] == tab[:101, 2].min() and long[3] == np.abs(np.diff(tab[:101, 2])).max()

@@ -110,10 +110,18 @@ _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 #: Columns of the wheel and rail tables: value, slope, curvature, smoothed curvature (built by
 #: :mod:`railexu.contact.evaluation`), then the curvature-bound columns of
 #: :func:`with_block_bounds`: over each block of ``TABLE_BLOCK`` rows the largest ``|slope|``,
-#: the smallest and the largest curvature and the largest curvature change per metre.
+#: the smallest and the largest curvature and the largest curvature change per metre; then the
+#: same four bounds as a sparse table over short runs of rows (:func:`_range_bounds`).
 T_SLOPE_MAX, T_CURV_MIN, T_CURV_MAX, T_CURV_RATE = 4, 5, 6, 7
-N_TABLE_COLUMNS = 8
+N_BLOCK_COLUMNS = 8
 TABLE_BLOCK = 16
+#: Sparse-table levels: level ``L`` (1..``SPARSE_LEVELS``) holds in columns
+#: ``T_SPARSE + 4 (L - 1) + c`` the bound ``c`` (largest ``|slope|``, smallest and largest
+#: curvature, largest curvature jump between neighbouring rows) over the ``2^L`` rows (jumps) from
+#: each row on, so that any run of up to ``2^(SPARSE_LEVELS + 1) - 1`` rows is two reads.
+SPARSE_LEVELS = 5
+T_SPARSE = N_BLOCK_COLUMNS
+N_TABLE_COLUMNS = T_SPARSE + 4 * SPARSE_LEVELS
 
 
 def with_block_bounds(tab: np.ndarray, step_m: float) -> np.ndarray:
@@ -139,7 +147,29 @@ def with_block_bounds(tab: np.ndarray, step_m: float) -> np.ndarray:
         per_block(tab[:, 2], np.max, -np.inf),
         per_block(rate, np.max, 0.0),
     ])  # fmt: skip
-    return np.ascontiguousarray(np.column_stack([tab[:, :4], extra]))
+    return np.ascontiguousarray(np.column_stack([tab[:, :4], extra, _sparse_bounds(tab)]))
+
+
+def _sparse_bounds(tab: np.ndarray) -> np.ndarray:
+    """The sparse-table columns of :data:`T_SPARSE`: for each level ``L`` the four bounds over
+    rows ``i .. i + 2^L - 1`` (the jumps ``|z''[j + 1] - z''[j]|`` for ``j`` in that run), exact
+    copies of the table's values so that a query equals a loop over the rows. Runs that pass
+    the table's end hold the bounds of the rows that exist (a query never reads them)."""
+    n = tab.shape[0]
+    jump = np.zeros(n)
+    jump[:-1] = np.abs(tab[1:, 2] - tab[:-1, 2])
+    level = [np.abs(tab[:, 1]), tab[:, 2].copy(), tab[:, 2].copy(), jump]
+    reduce = (np.maximum, np.minimum, np.maximum, np.maximum)
+    columns = []
+    for lv in range(1, SPARSE_LEVELS + 1):
+        half = 1 << (lv - 1)
+        nxt = []
+        for values, op in zip(level, reduce, strict=True):
+            shifted = np.concatenate([values[half:], values[-1:].repeat(half)])
+            nxt.append(op(values, shifted))
+        level = nxt
+        columns.extend(level)
+    return np.column_stack(columns)
 
 
 @numba.njit(inline="always", **_JIT)
@@ -271,6 +301,8 @@ def _table_bounds(tab, a, b, use_blocks):
     lo = tab[a, 2]
     hi = lo
     rate = 0.0
+    if not use_blocks and tab.shape[1] >= N_TABLE_COLUMNS and b - a < (2 << SPARSE_LEVELS) - 1:
+        return _range_bounds(tab, a, b)
     if use_blocks:
         for blk in range(a // TABLE_BLOCK, b // TABLE_BLOCK + 1):
             i = blk * TABLE_BLOCK
@@ -286,6 +318,43 @@ def _table_bounds(tab, a, b, use_blocks):
             hi = max(hi, c)
             if i < b:
                 rate = max(rate, abs(tab[i + 1, 2] - c))
+    return slope, lo, hi, rate
+
+
+@numba.njit(inline="always", **_JIT)
+def _sparse_level(m):
+    """The largest ``L`` with ``2^L <= m`` (``m >= 1``)."""
+    lv = 0
+    while (2 << lv) <= m:
+        lv += 1
+    return lv
+
+
+@numba.njit(inline="always", **_JIT)
+def _range_bounds(tab, a, b):
+    """:func:`_table_bounds` over every row ``a..b`` from the sparse-table columns: each bound
+    is the better of two runs of ``2^L`` rows that cover ``a..b`` (``b - a < 2^(SPARSE_LEVELS +
+    1) - 1``); the same values as the loop over the rows, in a few reads."""
+    lv = _sparse_level(b - a + 1)
+    c = b - (1 << lv) + 1
+    if lv == 0:
+        slope = abs(tab[a, 1])
+        lo = tab[a, 2]
+        hi = lo
+    else:
+        o = T_SPARSE + 4 * (lv - 1)
+        slope = max(tab[a, o], tab[c, o])
+        lo = min(tab[a, o + 1], tab[c, o + 1])
+        hi = max(tab[a, o + 2], tab[c, o + 2])
+    rate = 0.0
+    if b > a:  # the jumps a .. b - 1
+        lv = _sparse_level(b - a)
+        c = b - (1 << lv)
+        if lv == 0:
+            rate = abs(tab[a + 1, 2] - tab[a, 2])
+        else:
+            o = T_SPARSE + 4 * (lv - 1) + 3
+            rate = max(tab[a, o], tab[c, o])
     return slope, lo, hi, rate
 
 
@@ -308,8 +377,8 @@ def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
     ia = max(0, int((min(py_a, py_b) - ctx[C_RY0]) / rstep) - 2)
     ib = min(rn - 1, int((max(py_a, py_b) - ctx[C_RY0]) / rstep) + 3)
     use_blocks = (
-        wtab.shape[1] >= N_TABLE_COLUMNS
-        and rtab.shape[1] >= N_TABLE_COLUMNS
+        wtab.shape[1] >= N_BLOCK_COLUMNS
+        and rtab.shape[1] >= N_BLOCK_COLUMNS
         and kb - ka > 2 * TABLE_BLOCK
     )
     w1, f2_lo, f2_hi, w3 = _table_bounds(wtab, ka, kb, use_blocks)
