@@ -298,3 +298,24 @@ def test_a_run_that_exceeds_a_safety_limit_says_so_and_exits_1(tmp_path, capsys)
     sum_y = summary["assessment"]["criteria"]["sum_y"]
     assert sum_y["value"] > sum_y["limit"]
     assert "status: completed_with_exceedances" in capsys.readouterr().out
+
+
+def test_console_script_skips_the_shutdown_collection_and_still_writes_everything(tmp_path):
+    """The console script freezes the garbage collector before the interpreter's shutdown
+    (whose cycle collections cost about 1 s after a run): the output is complete, the exit
+    status kept, and the objects are frozen when the interpreter's exit handlers run."""
+    code = (
+        "import atexit, gc, sys\n"
+        "atexit.register(lambda: print('frozen', gc.get_freeze_count() > 0, file=sys.stderr))\n"
+        "from railexu.cli import entry_point\n"
+        "entry_point()"
+    )
+    out = tmp_path / "o"
+    proc = subprocess.run(
+        [sys.executable, "-c", code, "run", "eu07", "--out", str(out), *SHORT_RUN],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "frozen True" in proc.stderr
+    assert "status: completed" in proc.stdout and "wrote" in proc.stdout
+    assert json.loads((out / "summary.json").read_text())["status"]["state"] == "completed"
