@@ -99,7 +99,8 @@ class KernelData(NamedTuple):
 
     qref: np.ndarray  # reference coordinates of the object's nodes (6 per node)
     ws_slots: np.ndarray  # node slot of each wheelset (int64)
-    wtab: np.ndarray  # wheel tables (n_ws, 2, N, 4)
+    wtab: np.ndarray  # the distinct wheel tables (n_tables, N, kernel.N_TABLE_COLUMNS)
+    wtab_index: np.ndarray  # the table of each wheel (n_ws, 2) (int64)
     winfo: np.ndarray  # wheel info (n_ws, 2, 5)
     rtab: np.ndarray  # rail tables (2, M, 4), left and right
     rinfo: np.ndarray  # rail info (2, 3)
@@ -334,7 +335,8 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             rails[4 * side + 2] += qt[r + 2 * side]
             rails[4 * side + 3] += qt[r + 2 * side + 1]
     K.wheelset_contact(
-        d.wtab[w, 0], d.winfo[w, 0], d.rtab[0], d.rinfo[0], d.wtab[w, 1], d.winfo[w, 1],
+        d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], d.rtab[0], d.rinfo[0],
+        d.wtab[d.wtab_index[w, 1]], d.winfo[w, 1],
         d.rtab[1], d.rinfo[1], d.htab, d.ktab, d.params, state, rails, points[w], force,
     )  # fmt: skip
     if elastic:

@@ -206,12 +206,22 @@ class VehicleModel:
             [wheel_arrays(g.left, width), wheel_arrays(g.right, width)] for g in self.geometries
         ]
         n_max = max(t.shape[0] for pair in wheel for t, _ in pair)
-        self.wtab = np.zeros((n_ws, 2, n_max, wheel[0][0][0].shape[1]))
+        # one table per distinct wheel (a vehicle's wheels mostly share one profile): the
+        # compiled search reads one table of about 0.6 MB instead of eight copies, which
+        # stays in the processor's cache when two runs share it (docs/performance.md)
+        distinct: list[np.ndarray] = []
+        self.wtab_index = np.zeros((n_ws, 2), dtype=np.int64)
         self.winfo = np.zeros((n_ws, 2, 5))
         for i, pair in enumerate(wheel):
             for s, (tab, info) in enumerate(pair):
-                self.wtab[i, s, : tab.shape[0]] = tab
+                same = [j for j, t in enumerate(distinct) if np.array_equal(t, tab)]
+                if not same:
+                    distinct.append(tab)
+                self.wtab_index[i, s] = same[0] if same else len(distinct) - 1
                 self.winfo[i, s] = info
+        self.wtab = np.zeros((len(distinct), n_max, wheel[0][0][0].shape[1]))
+        for j, tab in enumerate(distinct):
+            self.wtab[j, : tab.shape[0]] = tab
         rails = [
             rail_arrays(self.geometries[0].left, width),
             rail_arrays(self.geometries[0].right, width),
@@ -676,8 +686,8 @@ class VehicleModel:
         return KernelData(
             qref=qref,
             ws_slots=np.array([slot[self.node[n]] for n in wheelset_names], dtype=np.int64),
-            wtab=self.wtab, winfo=self.winfo, rtab=self.rtab, rinfo=self.rinfo, htab=self.htab,
-            ktab=self.ktab, params=self.params,
+            wtab=self.wtab, wtab_index=self.wtab_index, winfo=self.winfo, rtab=self.rtab,
+            rinfo=self.rinfo, htab=self.htab, ktab=self.ktab, params=self.params,
             irr_start=float(self.irr_start), irr_step=float(self.irr_step),
             irr_values=self.irr_values, irr_slopes=self.irr_slopes,
             bs_int=bs_int, bs_real=bs_real,
