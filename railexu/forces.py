@@ -102,7 +102,7 @@ class KernelData(NamedTuple):
     wtab: np.ndarray  # the distinct wheel tables (n_tables, N, kernel.N_TABLE_COLUMNS)
     wtab_index: np.ndarray  # the table of each wheel (n_ws, 2) (int64)
     winfo: np.ndarray  # wheel info (n_ws, 2, 5)
-    rtab: np.ndarray  # rail tables (2, M, 4), left and right
+    rtab: np.ndarray  # rail tables (2, M, kernel.N_TABLE_COLUMNS), left and right
     rinfo: np.ndarray  # rail info (2, 3)
     htab: np.ndarray  # Hertz table
     ktab: np.ndarray  # Kalker table

@@ -165,7 +165,7 @@ def _sparse_bounds(tab: np.ndarray) -> np.ndarray:
         half = 1 << (lv - 1)
         nxt = []
         for values, op in zip(level, reduce, strict=True):
-            shifted = np.concatenate([values[half:], values[-1:].repeat(half)])
+            shifted = values[np.minimum(np.arange(n) + half, n - 1)]
             nxt.append(op(values, shifted))
         level = nxt
         columns.extend(level)
