@@ -173,6 +173,12 @@ def test_a_stop_signal_ends_the_run_with_its_results(signame):
     import signal
 
     signum = getattr(signal, signame)
+    # a test process started in the background by a shell without job control ignores SIGINT
+    # (and a run keeps a signal that its process ignores ignored, as a study's worker wants):
+    # the test gives the process the default handler of an interactive one
+    inherited = signal.getsignal(signum)
+    if inherited is signal.SIG_IGN:
+        signal.signal(signum, signal.default_int_handler if signame == "SIGINT" else signal.SIG_DFL)
     before = signal.getsignal(signum)
     sent = []
 
@@ -181,11 +187,14 @@ def test_a_stop_signal_ends_the_run_with_its_results(signame):
             sent.append(distance)
             os.kill(os.getpid(), signum)
 
-    vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
-    result = run(vehicle, None, RunSettings(distance_m=100.0), progress=progress)
-    assert result.status["state"] == "interrupted"
-    assert signame in result.status["reason"]
-    assert 5.0 < result.status["distance_m"] < 10.0
-    assert result.timeseries.distance_m[-1] == pytest.approx(result.status["distance_m"])
-    # the handler is restored afterwards
-    assert signal.getsignal(signum) is before
+    try:
+        vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
+        result = run(vehicle, None, RunSettings(distance_m=100.0), progress=progress)
+        assert result.status["state"] == "interrupted"
+        assert signame in result.status["reason"]
+        assert 5.0 < result.status["distance_m"] < 10.0
+        assert result.timeseries.distance_m[-1] == pytest.approx(result.status["distance_m"])
+        # the handler is restored afterwards
+        assert signal.getsignal(signum) is before
+    finally:
+        signal.signal(signum, inherited)
