@@ -214,10 +214,11 @@ class VehicleModel:
         self.winfo = np.zeros((n_ws, 2, 5))
         for i, pair in enumerate(wheel):
             for s, (tab, info) in enumerate(pair):
-                same = [j for j, t in enumerate(distinct) if np.array_equal(t, tab)]
-                if not same:
+                j = next((j for j, t in enumerate(distinct) if np.array_equal(t, tab)), None)
+                if j is None:
+                    j = len(distinct)
                     distinct.append(tab)
-                self.wtab_index[i, s] = same[0] if same else len(distinct) - 1
+                self.wtab_index[i, s] = j
                 self.winfo[i, s] = info
         self.wtab = np.zeros((len(distinct), n_max, wheel[0][0][0].shape[1]))
         for j, tab in enumerate(distinct):

@@ -297,12 +297,12 @@ def _table_bounds(tab, a, b, use_blocks):
     largest curvature, and the largest curvature change, from the per-block bound columns
     (``use_blocks``: the rate per metre) or from every row (the jump between neighbouring
     rows)."""
+    if not use_blocks and tab.shape[1] >= N_TABLE_COLUMNS and b - a < (2 << SPARSE_LEVELS) - 1:
+        return _range_bounds(tab, a, b)
     slope = 0.0
     lo = tab[a, 2]
     hi = lo
     rate = 0.0
-    if not use_blocks and tab.shape[1] >= N_TABLE_COLUMNS and b - a < (2 << SPARSE_LEVELS) - 1:
-        return _range_bounds(tab, a, b)
     if use_blocks:
         for blk in range(a // TABLE_BLOCK, b // TABLE_BLOCK + 1):
             i = blk * TABLE_BLOCK
@@ -716,7 +716,7 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     n_found = 0
     if k_hi <= k_lo or not (r22 > 0.1):
         return 0  # the wheel is nowhere above its rail (or the wheelset is upside down)
-    # The gap and its exact slope at the scan nodes (kept for the humps below), then every
+    # The gap and its exact slope at the scan nodes (the slopes kept for the humps), then every
     # local minimum, cell by cell:
     # - the slope turns upwards between two nodes: the minimum, refined;
     # - the slope keeps its sign but the cell touches the overlap (a gap below 0.1 mm at an
@@ -725,10 +725,9 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     # - the cell where the locus comes onto (leaves) the rail: a minimum between the rail's
     #   edge and the first (last) node when the slope there rises (falls).
     n_nodes = (k_hi - k_lo) // stride + 1
-    work = np.empty(2 * n_nodes + 6 * _STACK)
-    scan_g = work[0:n_nodes]
-    scan_dg = work[n_nodes : 2 * n_nodes]
-    stack = work[2 * n_nodes :]
+    work = np.empty(n_nodes + 6 * _STACK)
+    scan_dg = work[0:n_nodes]  # the slopes, kept for the humps below
+    stack = work[n_nodes:]
     g_prev = 1.0e9
     dg_prev = 0.0
     py_prev = 0.0
@@ -737,7 +736,6 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
         if j < n_nodes:
             kk = k_lo + j * stride
             g, dg, py = _node_gap(kk, wtab, rtab, ctx)
-            scan_g[j] = g
             scan_dg[j] = dg
         else:  # the sentinel that closes a minimum at the edge
             kk = min(k_prev + stride, wn - 1)
