@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -113,3 +114,47 @@ def test_run_bad_input(tmp_path, capsys):
 def test_plot_on_a_folder_without_results(tmp_path, capsys):
     assert main(["plot", str(tmp_path)]) == 2
     assert "no timeseries.csv" in capsys.readouterr().err
+
+
+def test_ctrl_c_during_a_run_keeps_its_results_and_figures(tmp_path):
+    """Ctrl-C at a terminal reaches the run's whole process group, the warm process that draws
+    the figures included: the run stops as interrupted and still writes every file."""
+    import re
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "run"
+    code = (
+        "import signal, sys\n"
+        # an interactive process's Ctrl-C, also when the tests run in a shell's background job
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "from railexu.cli import entry_point\n"
+        f"sys.argv = ['railexu', 'run', {str(ROOT / 'vehicles' / 'wheelset.yaml')!r}, "
+        f"'--distance', '100', '--out', {str(out)!r}]\n"
+        "entry_point()\n"
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code], stderr=subprocess.PIPE, stdout=subprocess.PIPE,
+        start_new_session=True,
+    )  # fmt: skip
+    progress = b""
+    deadline = time.monotonic() + 300.0
+    while time.monotonic() < deadline:
+        chunk = proc.stderr.read1(4096)
+        if not chunk:
+            break
+        progress += chunk
+        done = [float(m) for m in re.findall(rb"(\d+\.\d) / 100\.0 m", progress)]
+        if done and done[-1] > 5.0:
+            os.killpg(proc.pid, signal.SIGINT)
+            break
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 1, (progress + stderr).decode()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"]["state"] == "interrupted"
+    assert 5.0 < summary["status"]["distance_m"] < 100.0
+    for name in ("timeseries.csv", "state.npz", "lateral_displacement.png", "wheel_load.png"):
+        assert (out / name).stat().st_size > 0, name
+    assert not list(out.glob(".*.tmp*"))  # no file left half-written

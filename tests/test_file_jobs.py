@@ -1,13 +1,16 @@
-"""railexu.report.file_jobs: a run's files written on two processes are all there, whichever
-process writes them, and a failing child leaves nothing missing."""
+"""railexu.report.file_jobs: a run's files written on two processes (or by the warm processes
+started before the run) are all there, whichever process writes them, and a failing or dead
+child leaves nothing missing."""
 
 from __future__ import annotations
 
 import os
+import signal
+import time
 
 import pytest
 
-from railexu.report.file_jobs import FileJob, _split, can_fork, write_jobs
+from railexu.report.file_jobs import FileJob, WarmWriters, _split, can_fork, write_jobs
 
 
 def _writer(path, fail_outside_pid=None):
@@ -57,3 +60,105 @@ def test_an_error_here_is_raised(tmp_path):
 
     with pytest.raises(ValueError, match="bad figure"):
         write_jobs([FileJob("a", fail), FileJob("b", _writer(tmp_path / "b"))], processes=1)
+
+
+# --- WarmWriters: a process forked before the run that draws the figures when they are due ---
+
+
+class _PortableWriter:
+    """A picklable job body: writes the pid of the process that runs it (fails outside
+    ``fail_outside_pid`` when given)."""
+
+    def __init__(self, path, fail_outside_pid=None):
+        self.path = path
+        self.fail_outside_pid = fail_outside_pid
+
+    def __call__(self):
+        if self.fail_outside_pid is not None and os.getpid() != self.fail_outside_pid:
+            raise RuntimeError("fails in the warm process")
+        self.path.write_text(str(os.getpid()))
+
+
+def _portable_jobs(paths, **kw):
+    return [FileJob(p.name, _PortableWriter(p, **kw), portable=True) for p in paths]
+
+
+def test_warm_writers_write_the_portable_jobs_in_two_other_processes(tmp_path):
+    if not can_fork():
+        pytest.skip("no fork here")
+    portable = [tmp_path / f"fig{i}.png" for i in range(4)]
+    local = tmp_path / "timeseries.csv"
+    with WarmWriters(2) as writers:
+        assert writers.ready
+        write_jobs(_portable_jobs(portable) + [FileJob("csv", _writer(local))], writers=writers)
+        assert not writers.ready  # the warm process ended with the writing
+    me = str(os.getpid())
+    assert local.read_text() == me  # a job that is not portable stays in this process
+    drawn_by = {p.read_text() for p in portable}
+    assert len(drawn_by) == 2 and me not in drawn_by  # the warm process and its fork
+
+
+def test_jobs_that_fail_in_the_warm_process_are_written_here(tmp_path):
+    if not can_fork():
+        pytest.skip("no fork here")
+    paths = [tmp_path / f"fig{i}.png" for i in range(3)]
+    me = os.getpid()
+    with WarmWriters(2) as writers:
+        write_jobs(_portable_jobs(paths, fail_outside_pid=me), writers=writers)
+    assert all(p.read_text() == str(me) for p in paths)
+
+
+def test_a_warm_process_that_died_leaves_nothing_missing(tmp_path):
+    if not can_fork():
+        pytest.skip("no fork here")
+    paths = [tmp_path / f"fig{i}.png" for i in range(3)]
+    with WarmWriters(2) as writers:
+        writers._worker.kill()
+        writers._worker.join()
+        write_jobs(_portable_jobs(paths), writers=writers)
+    assert all(p.read_text() == str(os.getpid()) for p in paths)
+
+
+def test_jobs_that_cannot_be_pickled_are_written_here(tmp_path):
+    if not can_fork():
+        pytest.skip("no fork here")
+    path = tmp_path / "fig.png"
+    job = FileJob("fig", _writer(path), portable=True)  # a closure: not picklable
+    with WarmWriters(2) as writers:
+        write_jobs([job], writers=writers)
+    assert path.read_text() == str(os.getpid())
+
+
+def test_an_error_in_a_portable_job_is_raised_here(tmp_path):
+    if not can_fork():
+        pytest.skip("no fork here")
+    job = FileJob("bad", _Failing(), portable=True)
+    with WarmWriters(2) as writers, pytest.raises(ValueError, match="bad figure"):
+        write_jobs([job], writers=writers)
+
+
+class _Failing:
+    def __call__(self):
+        raise ValueError("bad figure")
+
+
+def test_a_warm_process_ignores_ctrl_c_and_ends_with_close():
+    if not can_fork():
+        pytest.skip("no fork here")
+    writers = WarmWriters(2)
+    worker = writers._worker
+    time.sleep(0.5)  # let it install its handlers
+    os.kill(worker.pid, signal.SIGINT)  # Ctrl-C reaches the whole process group
+    time.sleep(0.2)
+    assert worker.is_alive()
+    writers.close()  # a run that ended without files: the process ends at once
+    assert not worker.is_alive()
+    assert not writers.ready
+
+
+def test_no_warm_process_when_none_is_asked_for(tmp_path):
+    writers = WarmWriters(0)
+    assert not writers.ready
+    path = tmp_path / "fig.png"
+    write_jobs(_portable_jobs([path]), processes=1, writers=writers)
+    assert path.read_text() == str(os.getpid())

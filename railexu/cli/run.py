@@ -155,6 +155,7 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
 
 def command(args: argparse.Namespace) -> int:
     from ..catalog import find_input
+    from ..report.file_jobs import WarmWriters
     from ..report.folder import OutputFolder
     from ..report.run_files import write_run
     from ..runs import RunSettings, print_progress, run
@@ -193,10 +194,12 @@ def command(args: argparse.Namespace) -> int:
                 f"{settings.initial_lateral_m * 1e3:g} mm",
                 file=sys.stderr,
             )
-        result = run(vehicle, track, settings, progress=None if args.quiet else print_progress())
-        for warning in result.summary.get("warnings", []):
-            print(f"railexu run: warning: {warning}", file=sys.stderr)
-        written = write_run(result, folder, plots=bool(formats), formats=formats or ("png",))
+        # the processes that will draw the figures get ready while the run integrates
+        with WarmWriters(2 if formats else 0, formats) as writers:
+            result = run(vehicle, track, settings, None if args.quiet else print_progress())
+            for warning in result.summary.get("warnings", []):
+                print(f"railexu run: warning: {warning}", file=sys.stderr)
+            written = write_run(result, folder, bool(formats), formats or ("png",), writers)
         folder.finish()
     finally:
         folder.release()

@@ -20,6 +20,16 @@ SIDES = ("left", "right")
 FORMATS = ("png", "svg")
 
 
+def new_figure(**kwargs) -> Figure:
+    """A :class:`matplotlib.figure.Figure` (``kwargs`` as its own); matplotlib is imported here,
+    at the first figure, so that a module that draws can be imported without it (the run's
+    process names its figures and hands them to the processes that draw them,
+    :mod:`railexu.report.file_jobs`)."""
+    from matplotlib.figure import Figure
+
+    return Figure(**kwargs)
+
+
 def save_figure(
     fig: Figure, stem: str | Path, dpi: int = 130, formats: tuple[str, ...] = FORMATS
 ) -> list[Path]:

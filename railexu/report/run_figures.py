@@ -9,12 +9,13 @@ from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from ..results import MIN_LOAD_FRACTION, SAFETY_WINDOW_M, sliding_mean, y_over_q
-from .figures import SIDES
+from .figures import SIDES, new_figure
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from ..results import TimeSeries
 
 _FLANGE_ANGLE_PLOT_RAD = np.radians(45.0)
@@ -62,7 +63,7 @@ def _deduplicate_legends(fig: Figure) -> None:
 def _stacked_figure(rows: int) -> Figure:
     """A figure for ``rows`` stacked subplots with fixed margins (in inches)."""
     height = 1.2 + 2.4 * rows
-    fig = Figure(figsize=(10, height))
+    fig = new_figure(figsize=(10, height))
     fig.subplots_adjust(
         left=0.08, right=0.98, bottom=0.55 / height, top=1.0 - 0.75 / height, hspace=0.55
     )
@@ -218,7 +219,7 @@ def _lateral_displacement(page: _Page) -> Figure:
     """Lateral displacement of the wheelsets and bodies."""
     ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
-    fig = Figure(figsize=(10, 5))
+    fig = new_figure(figsize=(10, 5))
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.92)
     ax = fig.subplots()
     for i in indices:

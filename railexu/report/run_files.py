@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..results import write_summary
-from .file_jobs import FileJob, write_jobs
+from .file_jobs import FileJob, WarmWriters, write_jobs
 from .folder import OutputFolder, atomic_path
 
 if TYPE_CHECKING:
@@ -20,6 +20,7 @@ def write_run(
     out_dir: str | Path | OutputFolder,
     plots: bool = True,
     formats: tuple[str, ...] = ("png",),
+    writers: WarmWriters | None = None,
 ) -> list[Path]:
     """Write ``timeseries.csv``, ``summary.json``, ``state.npz`` and the figures of a run into
     ``out_dir``.
@@ -32,19 +33,26 @@ def write_run(
     Args:
         plots: draw the figures.
         formats: figure formats, ``"png"`` and/or ``"svg"``.
+        writers: processes started before the run that draw the figures
+            (:class:`~railexu.report.file_jobs.WarmWriters`, as ``railexu run`` does); by default
+            a child forked now shares the writing.
 
     Raises:
         InputError: the folder is not writable, is being written by another process, or holds
             the output of another kind of job.
     """
     if isinstance(out_dir, OutputFolder):
-        return _write_into(result, out_dir, plots, formats)
+        return _write_into(result, out_dir, plots, formats, writers)
     with OutputFolder(out_dir, "run") as folder:
-        return _write_into(result, folder, plots, formats)
+        return _write_into(result, folder, plots, formats, writers)
 
 
 def _write_into(
-    result: RunResult, folder: OutputFolder, plots: bool, formats: tuple[str, ...]
+    result: RunResult,
+    folder: OutputFolder,
+    plots: bool,
+    formats: tuple[str, ...],
+    writers: WarmWriters | None,
 ) -> list[Path]:
     path = folder.file("summary.json")
     with atomic_path(path) as tmp:
@@ -56,7 +64,7 @@ def _write_into(
         jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
     if plots:
         jobs += _figure_jobs(result, folder, formats)
-    write_jobs(jobs)
+    write_jobs(jobs, writers=writers)
     return list(folder.written)
 
 
@@ -81,15 +89,16 @@ def _state_writer(result: RunResult, path: Path) -> Callable[[], None]:
 def _figure_jobs(
     result: RunResult, folder: OutputFolder, formats: tuple[str, ...]
 ) -> list[FileJob]:
-    """One job per figure (each builds and saves its figure); the figure files are recorded
-    in ``folder`` here, whichever process writes them."""
+    """One job per figure (each builds and saves its figure, from its own data: a job can be
+    pickled to another process); the figure files are recorded in ``folder`` here, whichever
+    process writes them."""
     from .run_figures import run_figure_names
 
     title = f"{result.vehicle.name} at {result.settings.speed_m_per_s:g} m/s"
     ts = result.timeseries
     builders: dict[str, Callable] = {}
     for name in run_figure_names(ts):
-        builders[name] = partial(_run_figure, result, title, name)
+        builders[name] = partial(_run_figure, ts, result.summary, title, name)
     alignment = getattr(result.track, "alignment", None)
     if alignment is not None and not alignment.is_straight:
         builders["track"] = partial(_track_figure, alignment, result.track.name)
@@ -99,7 +108,8 @@ def _figure_jobs(
         for fmt in formats:
             folder.file(f"{name}.{fmt}")
         cost = _FIGURE_COST.get(name, 1.0)
-        jobs.append(FileJob(name, partial(_save, folder.path / name, build, formats), cost))
+        save = partial(_save, folder.path / name, build, formats)
+        jobs.append(FileJob(name, save, cost, portable=True))
     return jobs
 
 
@@ -116,10 +126,10 @@ _FIGURE_COST = {
 }
 
 
-def _run_figure(result: RunResult, title: str, name: str):
+def _run_figure(ts, summary, title: str, name: str):
     from .run_figures import run_figures
 
-    return run_figures(result.timeseries, result.summary, title, names=[name])[name]
+    return run_figures(ts, summary, title, names=[name])[name]
 
 
 def _track_figure(alignment, track_name: str):
