@@ -10,11 +10,11 @@ gets the status ``completed_with_exceedances``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .curving import curving_statistics
-from .results import RunSummary, summarize
 from .run_settings import RunSettings
 from .simulation import (
     ProgressCallback,
@@ -26,6 +26,12 @@ from .simulation import (
 )
 from .track import Track
 from .vehicle import Vehicle
+
+if TYPE_CHECKING:
+    from .alignment import Alignment
+    from .results import RunSummary
+    from .timeseries import TimeSeries
+    from .warm_process import WarmProcess
 
 __all__ = ["RunResult", "RunSettings", "print_progress", "run"]
 
@@ -39,8 +45,14 @@ def run(
     track: Track | None = None,
     settings: RunSettings | None = None,
     progress: ProgressCallback | None = None,
+    warm: WarmProcess | None = None,
 ) -> RunResult:
     """Simulate ``vehicle`` on ``track`` (ideal straight track by default) and assess the run.
+
+    Args:
+        warm: a :class:`~railexu.warm_process.WarmProcess` started before the run, as
+            ``railexu run`` does: the assessment runs there (it imported ``scipy.signal`` while
+            the run integrated); the summary is the same.
 
     Returns:
         The :class:`~railexu.simulation.RunResult`; its ``summary`` is a
@@ -53,23 +65,47 @@ def run(
     """
     settings = settings or RunSettings()
     result = simulate(vehicle, track, settings, progress)
-    result.summary = assess(result)
+    result.summary = assess(result, warm)
     return result
 
 
-def assess(result: RunResult) -> RunSummary:
-    """The summary of a simulated run; updates ``result.status`` with the exceedance state."""
+def assess(result: RunResult, warm: WarmProcess | None = None) -> RunSummary:
+    """The summary of a simulated run; updates ``result.status`` with the exceedance state.
+
+    Args:
+        warm: compute it in this process started before the run (see :func:`run`).
+    """
+    args = (result.timeseries, result.status, dict(result.summary), assessment_inputs(result))
+    summary = warm.call(summarize_run, *args) if warm is not None else summarize_run(*args)
+    if summary.status["state"] != result.status["state"]:  # computed in the warm process
+        result.status.update(state=summary.status["state"], reason=summary.status["reason"])
+    return summary
+
+
+@dataclass(frozen=True)
+class AssessmentInputs:
+    """What the assessment needs of a run besides its time series: read off the vehicle, the
+    track and the built model in the run's process, so that the assessment can run in another
+    (:class:`~railexu.warm_process.WarmProcess`)."""
+
+    wheelset_names: list[str]  # in the order of the time series' ws1, ws2, ...
+    speed_m_per_s: float
+    friction: float
+    flange_angle_rad: float
+    static_axle_loads_N: list[float]
+    category: str | None
+    evaluate_from_m: float | None
+    evaluate_to_m: float | None
+    track_irregular: bool
+    alignment: Alignment | None  # curved track only
+
+
+def assessment_inputs(result: RunResult) -> AssessmentInputs:
+    """The :class:`AssessmentInputs` of a simulated run."""
     model, vehicle, settings = result.model, result.vehicle, result.settings
-    facts = dict(result.summary)
     order = wheelset_order(vehicle)
-    names = [vehicle.wheelsets[i].name for i in order]
-    wall = facts["timings_s"]["integration_s"]
-    simulated = result.status["time_s"]
-    summary = summarize(
-        result.timeseries,
-        wheelset_names=names,
-        status=result.status,
-        realtime_factor=simulated / wall if wall > 0 else math.inf,
+    return AssessmentInputs(
+        wheelset_names=[vehicle.wheelsets[i].name for i in order],
         speed_m_per_s=settings.speed_m_per_s,
         friction=vehicle.contact.friction,
         flange_angle_rad=flange_angle_rad(model),
@@ -78,15 +114,44 @@ def assess(result: RunResult) -> RunSummary:
         evaluate_from_m=settings.evaluate_from_m,
         evaluate_to_m=settings.evaluate_to_m,
         track_irregular=result.track.irregularity.type != "none",
+        alignment=model.alignment if model.curved else None,
     )
-    state = summary.state_with_exceedances(result.status["state"])
-    if state != result.status["state"]:
+
+
+def summarize_run(
+    timeseries: TimeSeries, status: dict, facts: dict, inputs: AssessmentInputs
+) -> RunSummary:
+    """The summary over the evaluation window (:func:`railexu.results.summarize`) with the
+    curving statistics on curved track and the run's ``facts`` (timings, solver, settings...);
+    ``status`` gets the exceedance state."""
+    from .curving import curving_statistics
+    from .results import summarize  # scipy.signal's filters: imported when needed
+
+    wall = facts["timings_s"]["integration_s"]
+    simulated = status["time_s"]
+    names = inputs.wheelset_names
+    summary = summarize(
+        timeseries,
+        wheelset_names=names,
+        status=status,
+        realtime_factor=simulated / wall if wall > 0 else math.inf,
+        speed_m_per_s=inputs.speed_m_per_s,
+        friction=inputs.friction,
+        flange_angle_rad=inputs.flange_angle_rad,
+        static_axle_loads_N=inputs.static_axle_loads_N,
+        category=inputs.category,
+        evaluate_from_m=inputs.evaluate_from_m,
+        evaluate_to_m=inputs.evaluate_to_m,
+        track_irregular=inputs.track_irregular,
+    )
+    state = summary.state_with_exceedances(status["state"])
+    if state != status["state"]:
         exceeded = ", ".join(summary.exceedances)
-        for status in (result.status, summary.status):
-            status.update(state=state, reason=f"safety criteria exceeded: {exceeded}")
-    if model.curved:
+        for st in (status, summary.status):
+            st.update(state=state, reason=f"safety criteria exceeded: {exceeded}")
+    if inputs.alignment is not None:
         window = (summary.window.from_m, summary.window.to_m, summary.window.rule)
-        facts["curving"] = curving_statistics(result.timeseries, model.alignment, names, window)
+        facts["curving"] = curving_statistics(timeseries, inputs.alignment, names, window)
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]

@@ -5,12 +5,12 @@ child leaves nothing missing."""
 from __future__ import annotations
 
 import os
-import signal
-import time
+from functools import partial
 
 import pytest
 
-from railexu.report.file_jobs import FileJob, WarmWriters, _split, can_fork, write_jobs
+from railexu.report.file_jobs import FileJob, _split, can_fork, warm_up_figures, write_jobs
+from railexu.warm_process import WarmProcess
 
 
 def _writer(path, fail_outside_pid=None):
@@ -33,9 +33,9 @@ def test_the_split_balances_the_costs():
 
 
 @pytest.mark.parametrize("processes", [1, 2])
-def test_every_job_writes_its_file(tmp_path, processes):
-    if processes == 2 and not can_fork():
-        pytest.skip("no fork here")
+def test_every_job_writes_its_file(tmp_path, processes, request):
+    if processes == 2:
+        request.getfixturevalue("forking")  # tests/conftest.py
     paths = [tmp_path / f"f{i}.txt" for i in range(5)]
     write_jobs([FileJob(p.name, _writer(p)) for p in paths], processes=processes)
     writers = {p.read_text() for p in paths}
@@ -44,9 +44,7 @@ def test_every_job_writes_its_file(tmp_path, processes):
         assert len(writers) == 2 and str(os.getpid()) in writers
 
 
-def test_a_failing_child_leaves_nothing_missing(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
+def test_a_failing_child_leaves_nothing_missing(tmp_path, forking):
     paths = [tmp_path / f"f{i}.txt" for i in range(4)]
     me = os.getpid()
     write_jobs([FileJob(p.name, _writer(p, fail_outside_pid=me)) for p in paths], processes=2)
@@ -62,7 +60,7 @@ def test_an_error_here_is_raised(tmp_path):
         write_jobs([FileJob("a", fail), FileJob("b", _writer(tmp_path / "b"))], processes=1)
 
 
-# --- WarmWriters: a process forked before the run that draws the figures when they are due ---
+# --- with a warm process started before the run (railexu run) ---
 
 
 class _PortableWriter:
@@ -79,86 +77,52 @@ class _PortableWriter:
         self.path.write_text(str(os.getpid()))
 
 
+class _Failing:
+    def __call__(self):
+        raise ValueError("bad figure")
+
+
 def _portable_jobs(paths, **kw):
     return [FileJob(p.name, _PortableWriter(p, **kw), portable=True) for p in paths]
 
 
-def test_warm_writers_write_the_portable_jobs_in_two_other_processes(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
+def test_the_warm_process_and_its_fork_write_the_portable_jobs(tmp_path, forking):
     portable = [tmp_path / f"fig{i}.png" for i in range(4)]
     local = tmp_path / "timeseries.csv"
-    with WarmWriters(2) as writers:
-        assert writers.ready
-        write_jobs(_portable_jobs(portable) + [FileJob("csv", _writer(local))], writers=writers)
-        assert not writers.ready  # the warm process ended with the writing
+    with WarmProcess(warm_up=partial(warm_up_figures, ("png",))) as warm:
+        write_jobs(_portable_jobs(portable) + [FileJob("csv", _writer(local))], warm=warm)
+        assert warm.ready  # it stays for more work until closed
     me = str(os.getpid())
     assert local.read_text() == me  # a job that is not portable stays in this process
     drawn_by = {p.read_text() for p in portable}
     assert len(drawn_by) == 2 and me not in drawn_by  # the warm process and its fork
 
 
-def test_jobs_that_fail_in_the_warm_process_are_written_here(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
+def test_jobs_that_fail_in_the_warm_process_are_written_here(tmp_path, forking):
     paths = [tmp_path / f"fig{i}.png" for i in range(3)]
     me = os.getpid()
-    with WarmWriters(2) as writers:
-        write_jobs(_portable_jobs(paths, fail_outside_pid=me), writers=writers)
+    with WarmProcess() as warm:
+        write_jobs(_portable_jobs(paths, fail_outside_pid=me), warm=warm)
     assert all(p.read_text() == str(me) for p in paths)
 
 
-def test_a_warm_process_that_died_leaves_nothing_missing(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
+def test_a_dead_warm_process_leaves_nothing_missing(tmp_path, forking):
     paths = [tmp_path / f"fig{i}.png" for i in range(3)]
-    with WarmWriters(2) as writers:
-        writers._worker.kill()
-        writers._worker.join()
-        write_jobs(_portable_jobs(paths), writers=writers)
+    with WarmProcess() as warm:
+        warm._worker.kill()
+        warm._worker.join()
+        write_jobs(_portable_jobs(paths), warm=warm)
     assert all(p.read_text() == str(os.getpid()) for p in paths)
 
 
-def test_jobs_that_cannot_be_pickled_are_written_here(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
-    path = tmp_path / "fig.png"
-    job = FileJob("fig", _writer(path), portable=True)  # a closure: not picklable
-    with WarmWriters(2) as writers:
-        write_jobs([job], writers=writers)
-    assert path.read_text() == str(os.getpid())
+def test_an_error_in_a_portable_job_is_raised_here(forking):
+    with WarmProcess() as warm, pytest.raises(ValueError, match="bad figure"):
+        write_jobs([FileJob("bad", _Failing(), portable=True)], warm=warm)
 
 
-def test_an_error_in_a_portable_job_is_raised_here(tmp_path):
-    if not can_fork():
-        pytest.skip("no fork here")
-    job = FileJob("bad", _Failing(), portable=True)
-    with WarmWriters(2) as writers, pytest.raises(ValueError, match="bad figure"):
-        write_jobs([job], writers=writers)
-
-
-class _Failing:
-    def __call__(self):
-        raise ValueError("bad figure")
-
-
-def test_a_warm_process_ignores_ctrl_c_and_ends_with_close():
-    if not can_fork():
-        pytest.skip("no fork here")
-    writers = WarmWriters(2)
-    worker = writers._worker
-    time.sleep(0.5)  # let it install its handlers
-    os.kill(worker.pid, signal.SIGINT)  # Ctrl-C reaches the whole process group
-    time.sleep(0.2)
-    assert worker.is_alive()
-    writers.close()  # a run that ended without files: the process ends at once
-    assert not worker.is_alive()
-    assert not writers.ready
-
-
-def test_no_warm_process_when_none_is_asked_for(tmp_path):
-    writers = WarmWriters(0)
-    assert not writers.ready
-    path = tmp_path / "fig.png"
-    write_jobs(_portable_jobs([path]), processes=1, writers=writers)
-    assert path.read_text() == str(os.getpid())
+def test_without_a_warm_process_the_portable_jobs_are_written_as_before(tmp_path):
+    paths = [tmp_path / f"fig{i}.png" for i in range(2)]
+    warm = WarmProcess(start=False)
+    assert not warm.ready
+    write_jobs(_portable_jobs(paths), processes=1, warm=warm)
+    assert all(p.read_text() == str(os.getpid()) for p in paths)

@@ -577,3 +577,17 @@ def test_package_split_keeps_the_public_names():
         assert hasattr(pkg, name), name
     assert pkg.synthesize_irregularities.__module__ == "railexu.irregularities.synthesis"
     assert pkg.IrregularityProfile.__module__ == "railexu.irregularities.profile"
+
+
+@pytest.mark.parametrize(("n", "m"), [(256, 4096), (1000, 1000), (5000, 300), (7, 1)])
+def test_chirp_z_equals_scipy_signal_czt_to_the_last_bit(n, m):
+    """railexu's chirp z-transform (which spares a run the import of scipy.signal) does SciPy's
+    operations: the same values exactly, not just within round-off."""
+    from scipy import signal as sp_signal
+
+    from railexu.irregularities.synthesis import chirp_z
+
+    rng = np.random.default_rng(n + m)
+    x = rng.normal(size=n) + 1j * rng.normal(size=n)
+    w = np.exp(1j * 2.0 * np.pi * rng.uniform(1e-4, 1e-2))
+    assert np.array_equal(chirp_z(x, m, w), sp_signal.czt(x, m=m, w=w, a=1.0))

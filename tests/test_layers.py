@@ -54,6 +54,7 @@ LAYERS: dict[str, int] = {
     "railexu.simulation": 6,
     "railexu.recorder": 6,
     "railexu.compiled_cache": 0,
+    "railexu.warm_process": 0,  # the standard library only: a process that runs calls
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from functools import partial
 
 from .common import EXIT_FAILED, EXIT_OK, CliError, quantity, split_overrides
 
@@ -107,6 +108,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
+#: what the assessment imports (scipy.signal's filters among them): the warm process's preload
+_WARM_MODULES = ("scipy.signal", "railexu.results.evaluate", "railexu.curving")
+
+
 class _DefaultSpeed(float):
     """The default of ``--speed``: a float that tells it was not given."""
 
@@ -155,18 +160,22 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
 
 def command(args: argparse.Namespace) -> int:
     from ..catalog import find_input
-    from ..report.file_jobs import WarmWriters
+    from ..report.file_jobs import warm_up_figures
     from ..report.folder import OutputFolder
     from ..report.run_files import write_run
     from ..runs import RunSettings, print_progress, run
     from ..track import ideal_straight_track, load_track
     from ..vehicle import load_vehicle
+    from ..warm_process import WarmProcess
 
     formats = plot_formats(args.plots, args.no_plots)
     # names are looked up before the output folder exists (`railexu run eu07 --out eu07`)
     vehicle_file = find_input("vehicle", args.vehicle)
     track_file = find_input("track", args.track) if args.track else None
     folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
+    # a process that gets ready for the assessment and the figures while the run integrates
+    # (railexu.warm_process): the results are the same as without it
+    warm = WarmProcess(_WARM_MODULES, partial(warm_up_figures, formats) if formats else None)
     try:
         vehicle_set, track_set = split_overrides(args.set)
         vehicle = load_vehicle(vehicle_file, vehicle_set)
@@ -194,14 +203,14 @@ def command(args: argparse.Namespace) -> int:
                 f"{settings.initial_lateral_m * 1e3:g} mm",
                 file=sys.stderr,
             )
-        # the processes that will draw the figures get ready while the run integrates
-        with WarmWriters(2 if formats else 0, formats) as writers:
-            result = run(vehicle, track, settings, None if args.quiet else print_progress())
-            for warning in result.summary.get("warnings", []):
-                print(f"railexu run: warning: {warning}", file=sys.stderr)
-            written = write_run(result, folder, bool(formats), formats or ("png",), writers)
+        progress = None if args.quiet else print_progress()
+        result = run(vehicle, track, settings, progress, warm)
+        for warning in result.summary.get("warnings", []):
+            print(f"railexu run: warning: {warning}", file=sys.stderr)
+        written = write_run(result, folder, bool(formats), formats or ("png",), warm)
         folder.finish()
     finally:
+        warm.close()
         folder.release()
     print(format_summary(result.summary))
     print(f"  wrote {len(written)} files to {args.out}")

@@ -64,11 +64,31 @@ def _sum_of_cosines(
         m = min(_CZT_BLOCK, n_points - start)
         xb = x0 + start * step
         coeff = amp * np.exp(1j * (omega * xb + phase))
-        from scipy import signal as sp_signal  # lazy: keeps `import railexu` fast
-
-        z = sp_signal.czt(coeff, m=m, w=w, a=1.0)
+        z = chirp_z(coeff, m, w)
         out[start : start + m] = np.real(np.exp(1j * omega[0] * step * np.arange(m)) * z)
     return out
+
+
+def chirp_z(x: np.ndarray, m: int, w: complex) -> np.ndarray:
+    """The chirp z-transform ``X_k = sum_j x_j w^(-j k)``, ``k < m``, by Bluestein's algorithm
+    (Rabiner, Schafer and Rader, IEEE Trans. Audio Electroacoustics 17(2), 1969).
+
+    The same operations as ``scipy.signal.czt(x, m, w, a=1)`` (SciPy 1.17), so the same values
+    to the last bit (``tests/test_irregularities.py`` checks it), on ``scipy.fft`` alone:
+    importing ``scipy.signal`` costs some 0.8 s, a tenth of the seed run as a command, and a run
+    needs it only for its assessment, which ``railexu run`` does in a process started early
+    (:mod:`railexu.warm_process`)."""
+    from scipy.fft import fft, ifft, next_fast_len
+
+    n = x.shape[-1]
+    k = np.arange(max(m, n), dtype=np.min_scalar_type(-(max(m, n) ** 2)))
+    wk2 = w ** (k**2 / 2.0)
+    a = 1.0
+    nfft = next_fast_len(n + m - 1)
+    awk2 = a ** -k[:n] * wk2[:n]
+    fwk2 = fft(1 / np.hstack((wk2[n - 1 : 0 : -1], wk2[:m])), nfft)
+    y = ifft(fwk2 * fft(x * awk2, nfft))
+    return y[..., n - 1 : n + m - 1] * wk2[:m]
 
 
 def synthesize_irregularities(

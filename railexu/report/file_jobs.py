@@ -7,10 +7,11 @@ sits idle (the integration is serial). Two ways use it:
 - :func:`write_jobs` splits the writing of independent files (each figure, the time series, the
   state file) between this process and one child forked when the run is over, so the folder is
   complete in about half the time (``railexu.write_run`` called from a script);
-- :class:`WarmWriters`, started *before* the integration (``railexu run``), forks two processes
-  that import matplotlib and the figure modules and draw a first small figure (fonts, renderer)
-  on the idle core while the run integrates. When it is over they draw the figures, each job
-  carrying its own data (the time series and the summary, pickled once per process), while this
+- given a :class:`~railexu.warm_process.WarmProcess` started *before* the integration
+  (``railexu run``), which imported matplotlib and the figure modules and drew a first small
+  figure (:func:`warm_up_figures`) on the idle core while the run integrated, it hands that
+  process the figures (:func:`write_shares`: it and a fork of it, which shares its warm state,
+  draw half each; each job carries its own data, the time series and the summary), while this
   process writes the time series and the state file.
 
 Each job writes its own files under temporary names and renames them into place
@@ -27,15 +28,15 @@ everything itself.
 
 from __future__ import annotations
 
-import contextlib
 import io
 import multiprocessing
 import os
-import signal
 import sys
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+
+from ..warm_process import WarmProcess, can_fork
 
 
 @dataclass(frozen=True)
@@ -52,22 +53,23 @@ class FileJob:
 
 
 def write_jobs(
-    jobs: Sequence[FileJob], processes: int | None = None, writers: WarmWriters | None = None
+    jobs: Sequence[FileJob], processes: int | None = None, warm: WarmProcess | None = None
 ) -> None:
     """Run every job, on up to two processes (see the module's notes).
 
     Args:
         jobs: the jobs; each must write only its own files.
         processes: 1 to write everything here; None for two where :func:`can_fork` allows it.
-        writers: warm processes started before the run: they take the portable jobs, this
-            process the others (``processes`` is then not used).
+        warm: a process started before the run: it takes the portable jobs (split into two
+            processes: it and a fork of it), this process the others (``processes`` is then
+            not used).
 
     Raises:
         Exception: whatever a job raises when this process runs it.
     """
     portable = [job for job in jobs if job.portable]
-    if writers is not None and writers.ready and portable:
-        writers.write(portable, [job for job in jobs if not job.portable])
+    if warm is not None and warm.ready and portable:
+        _write_with(warm, portable, [job for job in jobs if not job.portable])
         return
     if processes is None:
         processes = 2 if can_fork() else 1
@@ -91,14 +93,18 @@ def write_jobs(
             job.write()
 
 
-def can_fork() -> bool:
-    """True where a forked child may write files alongside this process (see the module's
-    notes)."""
-    if "fork" not in multiprocessing.get_all_start_methods():
-        return False
-    if (os.cpu_count() or 1) < 2 or sys.platform != "linux":
-        return False
-    return threading.active_count() == 1 and not multiprocessing.current_process().daemon
+def _write_with(warm: WarmProcess, portable: list[FileJob], here: list[FileJob]) -> None:
+    """``portable`` on the warm process and a fork of it, ``here`` meanwhile in this process;
+    then here again what they did not write."""
+    warm.start(write_shares, portable, 2, fallback=_write_all_here)
+    try:
+        for job in here:
+            job.write()
+    finally:
+        failed = set(warm.finish())
+    for job in portable:
+        if job.name in failed:
+            job.write()
 
 
 def _split(jobs: Sequence[FileJob], parts: int = 2) -> list[list[FileJob]]:
@@ -136,128 +142,14 @@ def _run_in_child(jobs: list[FileJob]) -> None:
         os._exit(1)
 
 
-#: the warm processes' niceness (``os.nice``): a process of the default niceness that shares a
-#: core with one of them gets nearly all of it (Linux's weights 1024 and 15)
-_NICENESS = 19
-
-
-class WarmWriters:
-    """A process forked before a run's integration that gets ready to draw its figures, and
-    splits into ``processes`` when they are due (see the module's notes); a context manager, or
-    call :meth:`close`.
-
-    Args:
-        processes: how many processes draw (0: none is started, :attr:`ready` is False and
-            :func:`write_jobs` writes as without it; also where :func:`can_fork` does not allow
-            children).
-        formats: the figure formats the warm-up draws once.
-    """
-
-    def __init__(self, processes: int = 2, formats: Sequence[str] = ("png",)) -> None:
-        self.processes = processes
-        self._worker: multiprocessing.process.BaseProcess | None = None
-        self._conn = None
-        self._sent = False
-        if processes < 1 or not can_fork():
-            return
-        # what is buffered now would otherwise be written again by the child at its exit
-        sys.stdout.flush()
-        sys.stderr.flush()
-        context = multiprocessing.get_context("fork")
-        mine, theirs = context.Pipe()
-        try:
-            worker = context.Process(
-                target=_serve, args=(theirs, mine, tuple(formats)), daemon=True
-            )
-            worker.start()
-        except OSError:
-            mine.close()
-            return
-        finally:
-            theirs.close()
-        self._worker, self._conn = worker, mine
-
-    @property
-    def ready(self) -> bool:
-        """True while the warm process is there to take jobs."""
-        return self._worker is not None
-
-    def write(self, jobs: Sequence[FileJob], here: Sequence[FileJob] = ()) -> None:
-        """Run ``jobs`` (portable) on the warm process and its forks and ``here`` in this process
-        meanwhile; the jobs they did not finish are then run here. The warm process ends with
-        this call.
-
-        Raises:
-            Exception: whatever a job raises when this process runs it.
-        """
-        again: list[FileJob] = list(jobs)
-        if self._conn is not None:
-            try:
-                self._conn.send((list(jobs), self.processes))
-                self._sent = True
-            except Exception:  # not picklable after all, or the process is gone
-                pass
-        try:
-            for job in here:
-                job.write()
-        finally:
-            if self._sent:
-                again = _unfinished(self._conn, jobs)
-            self.close()
-        for job in again:
-            job.write()
-
-    def close(self) -> None:
-        """End the warm process: at once if it has no work (the run failed), else when its work
-        is done (it has reported by then)."""
-        if self._worker is None:
-            return
-        self._conn.close()
-        if not self._sent:
-            self._worker.terminate()
-        self._worker.join(timeout=30.0)
-        if self._worker.is_alive():
-            self._worker.kill()
-            self._worker.join()
-        self._worker = self._conn = None
-
-    def __enter__(self) -> WarmWriters:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-
-def _unfinished(conn, jobs: Sequence[FileJob]) -> list[FileJob]:
-    """The jobs that the warm process reports as not written (all of them if it died)."""
-    try:
-        failed = set(conn.recv())
-    except (EOFError, OSError):
-        return list(jobs)
-    return [job for job in jobs if job.name in failed]
-
-
-def _serve(conn, parent_end, formats: tuple[str, ...]) -> None:
-    """The warm process: get ready, wait for the jobs, split into ``processes`` (forks that
-    share the warm state), write, report the names of the jobs not written (the run's process
-    writes them again, and raises their error if it recurs)."""
-    parent_end.close()  # else the pipe never reads its end when the run's process dies
-    # Ctrl-C at a terminal reaches the whole process group: the run's process decides about it
-    # (it stops the integration and still writes its files, with this process's help)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    # the run's integration comes first: this process uses what it leaves of the processor
-    with contextlib.suppress(OSError):
-        os.nice(_NICENESS)
-    with contextlib.suppress(Exception):  # a failing warm-up only costs its time
-        _warm_up(formats)
-    try:
-        jobs, processes = conn.recv()
-    except BaseException:  # the run ended without files (an error), or its process died
-        return
-    mine, *theirs = _split(jobs, max(1, processes))
+def write_shares(jobs: Sequence[FileJob], parts: int) -> list[str]:
+    """Write ``jobs`` split into ``parts`` processes: this one and forks of it (which share its
+    imports: this is what a :class:`~railexu.warm_process.WarmProcess` runs); returns the names
+    of the jobs that failed or whose process failed (to be written again by the caller)."""
+    mine, *theirs = _split(jobs, max(1, parts))
     forks = {}
     for share in theirs:
-        pid = _fork_writer(share) if share else None
+        pid = _fork_writer(share) if share and _may_fork() else None
         if pid is None:
             mine += share
         else:
@@ -266,8 +158,19 @@ def _serve(conn, parent_end, formats: tuple[str, ...]) -> None:
     for pid, share in forks.items():
         if os.waitpid(pid, 0)[1] != 0:
             failed += [job.name for job in share]
-    with contextlib.suppress(OSError):
-        conn.send(failed)
+    return failed
+
+
+def _write_all_here(jobs: Sequence[FileJob], parts: int) -> list[str]:
+    """The fallback of :func:`write_shares` when the warm process cannot run it: every job is
+    reported as not written, so the caller writes them all here."""
+    return [job.name for job in jobs]
+
+
+def _may_fork() -> bool:
+    """:func:`can_fork` without its test of a daemonic process: the warm process is one (so that
+    it ends with the command), and a fork it waits for does not outlive it."""
+    return (os.cpu_count() or 1) > 1 and hasattr(os, "fork") and threading.active_count() == 1
 
 
 def _fork_writer(share: list[FileJob]) -> int | None:
@@ -291,8 +194,9 @@ def _write(job: FileJob) -> bool:
     return True
 
 
-def _warm_up(formats: tuple[str, ...]) -> None:
-    """Import what the figures need and draw a small figure once (fonts, renderer, text)."""
+def warm_up_figures(formats: Sequence[str] = ("png",)) -> None:
+    """Import what the figures need and draw a small figure once (fonts, renderer, text): the
+    warm-up of a :class:`~railexu.warm_process.WarmProcess` that will draw a run's figures."""
     from . import curving_figures, run_figures, track_figures  # noqa: F401
     from .figures import new_figure
 

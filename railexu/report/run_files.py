@@ -8,11 +8,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..results import write_summary
-from .file_jobs import FileJob, WarmWriters, write_jobs
+from .file_jobs import FileJob, write_jobs
 from .folder import OutputFolder, atomic_path
 
 if TYPE_CHECKING:
     from ..simulation import RunResult
+    from ..warm_process import WarmProcess
 
 
 def write_run(
@@ -20,7 +21,7 @@ def write_run(
     out_dir: str | Path | OutputFolder,
     plots: bool = True,
     formats: tuple[str, ...] = ("png",),
-    writers: WarmWriters | None = None,
+    warm: WarmProcess | None = None,
 ) -> list[Path]:
     """Write ``timeseries.csv``, ``summary.json``, ``state.npz`` and the figures of a run into
     ``out_dir``.
@@ -33,18 +34,18 @@ def write_run(
     Args:
         plots: draw the figures.
         formats: figure formats, ``"png"`` and/or ``"svg"``.
-        writers: processes started before the run that draw the figures
-            (:class:`~railexu.report.file_jobs.WarmWriters`, as ``railexu run`` does); by default
-            a child forked now shares the writing.
+        warm: a process started before the run that draws the figures
+            (:class:`~railexu.warm_process.WarmProcess`, as ``railexu run`` does); by default a
+            child forked now shares the writing.
 
     Raises:
         InputError: the folder is not writable, is being written by another process, or holds
             the output of another kind of job.
     """
     if isinstance(out_dir, OutputFolder):
-        return _write_into(result, out_dir, plots, formats, writers)
+        return _write_into(result, out_dir, plots, formats, warm)
     with OutputFolder(out_dir, "run") as folder:
-        return _write_into(result, folder, plots, formats, writers)
+        return _write_into(result, folder, plots, formats, warm)
 
 
 def _write_into(
@@ -52,7 +53,7 @@ def _write_into(
     folder: OutputFolder,
     plots: bool,
     formats: tuple[str, ...],
-    writers: WarmWriters | None,
+    warm: WarmProcess | None,
 ) -> list[Path]:
     path = folder.file("summary.json")
     with atomic_path(path) as tmp:
@@ -64,7 +65,7 @@ def _write_into(
         jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
     if plots:
         jobs += _figure_jobs(result, folder, formats)
-    write_jobs(jobs, writers=writers)
+    write_jobs(jobs, warm=warm)
     return list(folder.written)
 
 

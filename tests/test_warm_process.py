@@ -1,0 +1,87 @@
+"""railexu.warm_process: a call made in the warm process gives what the same call gives here,
+and whatever goes wrong there (an error, a dead process, arguments that cannot be pickled), the
+call is made here instead."""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+
+import pytest
+
+from railexu.warm_process import WarmProcess
+
+needs_fork = pytest.mark.usefixtures("forking")  # tests/conftest.py
+
+
+def _pid_and_sum(*values):
+    return os.getpid(), sum(values)
+
+
+def _fails_outside(pid):
+    if os.getpid() != pid:
+        raise RuntimeError("fails in the warm process")
+    return "here"
+
+
+def _always_fails():
+    raise ValueError("a bad assessment")
+
+
+@needs_fork
+def test_a_call_runs_in_the_warm_process_after_its_preload():
+    with WarmProcess(preload=("json",)) as warm:
+        assert warm.ready
+        pid, total = warm.call(_pid_and_sum, 1.5, 2.5)
+        assert pid not in (os.getpid(), None) and total == 4.0
+        assert warm.call(_pid_and_sum, 1)[0] == pid  # the same process, call after call
+    assert not warm.ready
+
+
+@needs_fork
+def test_a_call_that_fails_there_runs_here():
+    with WarmProcess() as warm:
+        assert warm.call(_fails_outside, os.getpid()) == "here"
+
+
+@needs_fork
+def test_an_error_is_raised_here():
+    with WarmProcess() as warm, pytest.raises(ValueError, match="a bad assessment"):
+        warm.call(_always_fails)
+
+
+@needs_fork
+def test_a_dead_warm_process_leaves_the_call_to_this_one():
+    with WarmProcess() as warm:
+        warm._worker.kill()
+        warm._worker.join()
+        assert warm.call(_pid_and_sum, 1)[0] == os.getpid()
+        assert not warm.ready
+
+
+@needs_fork
+def test_arguments_that_cannot_be_pickled_are_used_here():
+    with WarmProcess() as warm:
+        assert warm.call(_pid_and_sum, 1, 2)[0] != os.getpid()
+        # a lambda cannot be pickled: this call runs here (and ends the warm process)
+        assert warm.call(lambda: os.getpid()) == os.getpid()
+
+
+@needs_fork
+def test_the_warm_process_ignores_ctrl_c_and_ends_with_close():
+    warm = WarmProcess()
+    worker = warm._worker
+    time.sleep(0.5)  # let it install its handlers
+    os.kill(worker.pid, signal.SIGINT)  # Ctrl-C at a terminal reaches the whole process group
+    assert warm.call(_pid_and_sum, 1)[0] == worker.pid
+    warm.close()
+    assert not worker.is_alive()
+
+
+def test_without_a_warm_process_every_call_runs_here():
+    warm = WarmProcess(start=False)
+    assert not warm.ready
+    assert warm.call(_pid_and_sum, 2, 3) == (os.getpid(), 5)
+    with pytest.raises(RuntimeError, match="no call was started"):
+        warm.finish()
