@@ -9,7 +9,7 @@ from functools import partial
 
 import pytest
 
-from railexu.report.file_jobs import FileJob, _split, can_fork, warm_up_figures, write_jobs
+from railexu.report.file_jobs import FileJob, _split, warm_up_figures, write_jobs
 from railexu.warm_process import WarmProcess
 
 
