@@ -225,6 +225,30 @@ def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
     assert done.stdout.strip().splitlines()[-1] == "False False"
 
 
+def test_a_run_leaves_the_assessment_and_the_figures_to_its_warm_process(tmp_path):
+    """`railexu run` with figures: the warm process started before the run imports scipy.signal
+    and matplotlib while the run integrates, and assesses and draws (railexu.warm_process);
+    the run's own process imports neither, and every file is there."""
+    from railexu.warm_process import can_fork
+
+    if not can_fork():
+        pytest.skip("no warm process here: the run's process assesses and draws itself")
+    out = tmp_path / "out"
+    code = (
+        "import sys\n"
+        "from railexu.cli import main\n"
+        f"main(['run', 'wheelset', '--distance', '2', '--quiet', '--out', {str(out)!r}])\n"
+        "print('scipy.signal' in sys.modules, 'matplotlib' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "False False"
+    assert "status: completed" in done.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["hunting"] and summary["assessment"]["criteria"]
+    assert {p.name for p in out.glob("*.png")} >= {"lateral_displacement.png", "wheel_load.png"}
+
+
 def test_warnings_are_printed_on_the_console_too(tmp_path, capsys):
     """The declared axle load against masses and loads: in summary.json and on the console."""
     out = tmp_path / "out"
