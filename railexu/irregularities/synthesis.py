@@ -70,7 +70,7 @@ def _sum_of_cosines(
 
 
 def chirp_z(x: np.ndarray, m: int, w: complex) -> np.ndarray:
-    """The chirp z-transform ``X_k = sum_j x_j w^(-j k)``, ``k < m``, by Bluestein's algorithm
+    """The chirp z-transform ``X_k = sum_j x_j w^(j k)``, ``k < m``, by Bluestein's algorithm
     (Rabiner, Schafer and Rader, IEEE Trans. Audio Electroacoustics 17(2), 1969).
 
     The same operations as ``scipy.signal.czt(x, m, w, a=1)`` (SciPy 1.17), so the same values

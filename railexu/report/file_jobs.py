@@ -43,8 +43,8 @@ from ..warm_process import WarmProcess, can_fork
 class FileJob:
     """One independent piece of output: ``write()`` writes it; ``cost`` is its relative time
     (only its ratio to the other jobs' costs matters: it balances the processes); ``portable``:
-    ``write`` can be pickled and run by a :class:`WarmWriters` process (it carries its data, not
-    the Exudyn model)."""
+    ``write`` can be pickled and run by a :class:`~railexu.warm_process.WarmProcess` (it carries
+    its data, not the Exudyn model)."""
 
     name: str
     write: Callable[[], None]
