@@ -87,7 +87,7 @@ def weighting_zpk(name: str, band_limit_low_pass: bool = True) -> tuple[list, li
         w5, w6 = 2 * math.pi * w.f5, 2 * math.pi * w.f6
         num = num * np.poly1d([1.0, w5 / w.q5, w5**2])
         den = den * np.poly1d([1.0, w6 / w.q6, w6**2])
-    z, p, k = _scipy_signal().tf2zpk(num.coeffs, den.coeffs)
+    z, p, k = scipy_signal().tf2zpk(num.coeffs, den.coeffs)
     return list(z), list(p), float(k)
 
 
@@ -95,7 +95,7 @@ def weighting_gain(name: str, frequency_Hz: ArrayLike) -> FloatArray:
     """Magnitude of the analogue weighting ``name`` at ``frequency_Hz`` (-)."""
     z, p, k = weighting_zpk(name)
     f = np.atleast_1d(np.asarray(frequency_Hz, dtype=float))
-    _, h = _scipy_signal().freqs_zpk(z, p, k, worN=2 * math.pi * f)
+    _, h = scipy_signal().freqs_zpk(z, p, k, worN=2 * math.pi * f)
     return np.abs(h)
 
 
@@ -106,14 +106,14 @@ def weighting_sos(name: str, fs_Hz: float) -> FloatArray:
     sampled signal to limit, and the bilinear transform cannot place a pole beyond it."""
     w = _weighting(name)
     z, p, k = weighting_zpk(name, band_limit_low_pass=w.f2 < 0.4 * fs_Hz)
-    zd, pd, kd = _scipy_signal().bilinear_zpk(z, p, k, fs_Hz)
-    return _scipy_signal().zpk2sos(zd, pd, kd)
+    zd, pd, kd = scipy_signal().bilinear_zpk(z, p, k, fs_Hz)
+    return scipy_signal().zpk2sos(zd, pd, kd)
 
 
 def weight(acceleration: ArrayLike, fs_Hz: float, name: str) -> FloatArray:
     """The acceleration (m/s^2) sampled at ``fs_Hz``, weighted by ``name`` (forward filter)."""
     a = np.asarray(acceleration, dtype=float)
-    return _scipy_signal().sosfilt(weighting_sos(name, fs_Hz), a)
+    return scipy_signal().sosfilt(weighting_sos(name, fs_Hz), a)
 
 
 def lowpass(values: ArrayLike, fs_Hz: float, cutoff_Hz: float) -> FloatArray:
@@ -123,10 +123,10 @@ def lowpass(values: ArrayLike, fs_Hz: float, cutoff_Hz: float) -> FloatArray:
     v = np.asarray(values, dtype=float)
     if not cutoff_Hz < 0.45 * fs_Hz or v.size < 16:
         return v.copy()
-    sos = _scipy_signal().butter(
+    sos = scipy_signal().butter(
         BUTTERWORTH_ORDER, cutoff_Hz, btype="lowpass", fs=fs_Hz, output="sos"
     )
-    return _scipy_signal().sosfiltfilt(sos, v)
+    return scipy_signal().sosfiltfilt(sos, v)
 
 
 def bandpass(values: ArrayLike, fs_Hz: float, low_Hz: float, high_Hz: float) -> FloatArray:
@@ -137,13 +137,13 @@ def bandpass(values: ArrayLike, fs_Hz: float, low_Hz: float, high_Hz: float) -> 
     high = min(high_Hz, 0.45 * fs_Hz)
     if not 0.0 < low_Hz < high:
         raise ValueError(f"band {low_Hz:g} to {high_Hz:g} Hz does not fit below {fs_Hz / 2:g} Hz")
-    sos = _scipy_signal().butter(
+    sos = scipy_signal().butter(
         BUTTERWORTH_ORDER, [low_Hz, high], btype="bandpass", fs=fs_Hz, output="sos"
     )
     # pad (odd extension) by three periods of the lower edge, so that the filter's start-up
     # transient, slow for a low edge, dies out before the record begins
     padlen = int(min(v.size - 1, math.ceil(3.0 * fs_Hz / low_Hz)))
-    return _scipy_signal().sosfiltfilt(sos, v, padlen=padlen)
+    return scipy_signal().sosfiltfilt(sos, v, padlen=padlen)
 
 
 def dominant_frequency(
@@ -154,16 +154,17 @@ def dominant_frequency(
     v = np.asarray(values, dtype=float)
     if v.size < 8 or not np.all(np.isfinite(v)):
         return None
-    f, p = _scipy_signal().periodogram(v, fs=fs_Hz, window="hann", detrend="constant")
+    f, p = scipy_signal().periodogram(v, fs=fs_Hz, window="hann", detrend="constant")
     band = (f >= band_Hz[0]) & (f <= band_Hz[1])
     if not np.any(band) or not np.max(p[band]) > 0.0:
         return None
     return float(f[band][int(np.argmax(p[band]))])
 
 
-def _scipy_signal():
-    """``scipy.signal``, imported at the first use: its import costs some 0.8 s, which a process
-    that only reads or unpickles a summary (:mod:`railexu.warm_process`) does not pay."""
+def scipy_signal():
+    """``scipy.signal``, imported at the first use (by the filters here and the hunting
+    detection): its import costs some 0.8 s, which a process that only reads or unpickles a
+    summary (:mod:`railexu.warm_process`) does not pay."""
     from scipy import signal
 
     return signal

@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .criterion import Criterion, finite_or_none
+from .filters import scipy_signal
 from .signals import amplitude, zero_crossing_wavelength, zero_crossings
 
 FloatArray = NDArray[np.float64]
@@ -85,7 +86,7 @@ def narrow_band_share(x: FloatArray, y: FloatArray, wavelength_m: float) -> floa
     grid = np.linspace(x[0], x[-1], x.size)
     v = np.interp(grid, x, y)
     dx = grid[1] - grid[0]
-    f, p = _scipy_signal().periodogram(v, fs=1.0 / dx, window="hann", detrend="constant")
+    f, p = scipy_signal().periodogram(v, fs=1.0 / dx, window="hann", detrend="constant")
     total = float(np.sum(p[1:]))
     if not total > 0.0:
         return None
@@ -143,11 +144,3 @@ def detect_hunting(
     if wl is not None and speed_m_per_s > 0 and math.isfinite(wl):
         out.frequency_Hz = speed_m_per_s / wl
     return out
-
-
-def _scipy_signal():
-    """``scipy.signal``, imported at the first use: its import costs some 0.8 s, which a process
-    that only reads or unpickles a summary (:mod:`railexu.warm_process`) does not pay."""
-    from scipy import signal
-
-    return signal

@@ -83,7 +83,7 @@ def chirp_z(x: np.ndarray, m: int, w: complex) -> np.ndarray:
     n = x.shape[-1]
     k = np.arange(max(m, n), dtype=np.min_scalar_type(-(max(m, n) ** 2)))
     wk2 = w ** (k**2 / 2.0)
-    a = 1.0
+    a = 1.0  # SciPy's factor a^-k (ones here) is kept: the same operations, the same bits
     nfft = next_fast_len(n + m - 1)
     awk2 = a ** -k[:n] * wk2[:n]
     fwk2 = fft(1 / np.hstack((wk2[n - 1 : 0 : -1], wk2[:m])), nfft)

@@ -5,8 +5,9 @@ core, and importing matplotlib another 0.5 s, while the second core of a laptop 
 sits idle (the integration is serial). Two ways use it:
 
 - :func:`write_jobs` splits the writing of independent files (each figure, the time series, the
-  state file) between this process and one child forked when the run is over, so the folder is
-  complete in about half the time (``railexu.write_run`` called from a script);
+  state file) between this process and one child forked when the run is over
+  (:func:`write_shares`), so the folder is complete in about half the time (``railexu.write_run``
+  called from a script);
 - given a :class:`~railexu.warm_process.WarmProcess` started *before* the integration
   (``railexu run``), which imported matplotlib and the figure modules and drew a first small
   figure (:func:`warm_up_figures`) on the idle core while the run integrated, it hands that
@@ -29,7 +30,6 @@ everything itself.
 from __future__ import annotations
 
 import io
-import multiprocessing
 import os
 import sys
 import threading
@@ -77,20 +77,7 @@ def write_jobs(
         for job in jobs:
             job.write()
         return
-    here, there = _split(jobs)
-    child = _start_child(there)
-    if child is None:  # the fork itself failed: write everything here
-        here = list(jobs)
-    try:
-        for job in here:
-            job.write()
-    finally:
-        if child is not None:
-            child.join()
-    if child is not None and child.exitcode != 0:
-        # the child's files are not all there: write them here
-        for job in there:
-            job.write()
+    _write_again(jobs, write_shares(jobs, processes))
 
 
 def _write_with(warm: WarmProcess, portable: list[FileJob], here: list[FileJob]) -> None:
@@ -101,8 +88,13 @@ def _write_with(warm: WarmProcess, portable: list[FileJob], here: list[FileJob])
         for job in here:
             job.write()
     finally:
-        failed = set(warm.finish())
-    for job in portable:
+        failed = warm.finish()
+    _write_again(portable, failed)
+
+
+def _write_again(jobs: Sequence[FileJob], failed: list[str]) -> None:
+    """Write here the jobs named in ``failed`` (a job's error is raised now, if it recurs)."""
+    for job in jobs:
         if job.name in failed:
             job.write()
 
@@ -118,30 +110,6 @@ def _split(jobs: Sequence[FileJob], parts: int = 2) -> list[list[FileJob]]:
     return shares
 
 
-def _start_child(jobs: list[FileJob]) -> multiprocessing.process.BaseProcess | None:
-    # what is buffered now would otherwise be written twice (by the child at its exit too)
-    sys.stdout.flush()
-    sys.stderr.flush()
-    try:
-        child = multiprocessing.get_context("fork").Process(
-            target=_run_in_child, args=(jobs,), daemon=True
-        )
-        child.start()
-    except OSError:
-        return None
-    return child
-
-
-def _run_in_child(jobs: list[FileJob]) -> None:
-    # the child's only job is its files: an error ends it with a non-zero exit code (the
-    # parent then writes them), without a second traceback on the console
-    try:
-        for job in jobs:
-            job.write()
-    except BaseException:
-        os._exit(1)
-
-
 def write_shares(jobs: Sequence[FileJob], parts: int) -> list[str]:
     """Write ``jobs`` split into ``parts`` processes: this one and forks of it (which share its
     imports: this is what a :class:`~railexu.warm_process.WarmProcess` runs); returns the names
@@ -154,10 +122,13 @@ def write_shares(jobs: Sequence[FileJob], parts: int) -> list[str]:
             mine += share
         else:
             forks[pid] = share
-    failed = [job.name for job in mine if not _write(job)]
-    for pid, share in forks.items():
-        if os.waitpid(pid, 0)[1] != 0:
-            failed += [job.name for job in share]
+    failed: list[str] = []
+    try:
+        failed += [job.name for job in mine if not _write(job)]
+    finally:  # the forks end in any case (Ctrl-C here does not leave them behind)
+        for pid, share in forks.items():
+            if os.waitpid(pid, 0)[1] != 0:
+                failed += [job.name for job in share]
     return failed
 
 
@@ -176,20 +147,29 @@ def _may_fork() -> bool:
 def _fork_writer(share: list[FileJob]) -> int | None:
     """Fork a process that writes ``share`` and exits with 0 if every job succeeded; its pid,
     or None when the fork failed."""
+    # what is buffered now would otherwise be written again by the child
+    sys.stdout.flush()
+    sys.stderr.flush()
     try:
         pid = os.fork()
     except OSError:
         return None
-    if pid == 0:
-        ok = [_write(job) for job in share]
-        os._exit(0 if all(ok) else 1)
+    if pid == 0:  # the child's only job is its files; its errors are reported by its status
+        status = 1
+        try:
+            status = 0 if all([_write(job) for job in share]) else 1
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(status)
     return pid
 
 
 def _write(job: FileJob) -> bool:
+    """Write ``job``; False if it failed (its process then reports it, without a traceback)."""
     try:
         job.write()
-    except BaseException:
+    except Exception:
         return False
     return True
 
