@@ -544,10 +544,21 @@ def test_failing_case_is_recorded_and_the_others_complete(tmp_path):
     assert len(read_results(tmp_path / "out" / "results.csv")) == 2
 
 
-def test_a_crashing_worker_fails_only_its_case(tmp_path, monkeypatch):
+def test_a_crashing_worker_fails_only_its_case(tmp_path):
+    """In a process of its own: the test hook's environment variable must reach the workers,
+    which a fork server started earlier in this session would not pass on."""
+    import os
+    import subprocess
+    import sys
+
     path = write_study(tmp_path, "vary:\n  parameters:\n    run.speed: [8 m/s, 9 m/s, 10 m/s]\n")
-    monkeypatch.setenv(S._CRASH_ENV, "case_0001")
-    result = run_study(path, tmp_path / "out", workers=2)
+    code = (
+        "from railexu.study import run_study\n"
+        f"run_study({str(path)!r}, {str(tmp_path / 'out')!r}, workers=2)\n"
+    )
+    env = dict(os.environ, **{S._CRASH_ENV: "case_0001"})
+    subprocess.run([sys.executable, "-c", code], env=env, check=True, timeout=300)
+    result = run_study(path, tmp_path / "out", workers=0)  # resumes: reads the recorded rows
     assert [r["status"] for r in result.rows] == ["completed", "failed", "completed"]
     assert "the worker process died" in result.rows[1]["error"]
 
@@ -631,16 +642,23 @@ def test_workers_end_when_the_study_process_is_killed(tmp_path):
                 found += [int(c) for c in (task / "children").read_text().split()]
         return found
 
+    def cmdline(pid: int) -> str:
+        with contextlib.suppress(OSError):
+            return Path(f"/proc/{pid}/cmdline").read_text()
+        return ""
+
     try:
         deadline = time.monotonic() + 120
         workers: list[int] = []
+        servers: list[int] = []
         while time.monotonic() < deadline and len(workers) < 2:
             time.sleep(0.5)
-            workers = [
-                c for c in children(main.pid)
-                if "resource_tracker" not in Path(f"/proc/{c}/cmdline").read_text()
-            ]  # fmt: skip
+            starters = [c for c in children(main.pid) if "resource_tracker" not in cmdline(c)]
+            servers = [c for c in starters if "forkserver" in cmdline(c)]
+            # spawn workers are the study's children, forkserver workers the fork server's
+            workers = [w for c in servers for w in children(c)] or starters
         assert len(workers) >= 2, "the study did not start its workers"
+        workers += servers  # the fork server must end too
     finally:
         main.send_signal(signal.SIGKILL)
         main.wait(timeout=30)
@@ -896,3 +914,25 @@ def test_the_files_a_vehicle_names_are_part_of_the_study_inputs(tmp_path):
     digests = input_file_digests(tmp_path / "v.yaml", None, ["alt.txt", 10.0], tmp_path)
     names = sorted(Path(p).name for p in digests)
     assert names == ["alt.txt", "v.yaml", "worn.txt"]
+
+
+def test_what_a_worker_preloads_loads_without_error():
+    """The workers' preload swallows its errors (a case reports them): it must not fail in a
+    working installation, or every worker's first case pays for the loading."""
+    from railexu.study import worker
+
+    worker.load_case_needs()
+
+
+def test_local_workers_come_from_a_fork_server_that_preloads_the_cases_needs():
+    import importlib.util
+    import multiprocessing
+
+    from railexu.study import execution
+
+    ctx = execution._pool_context()
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        assert ctx.get_start_method() == "forkserver"
+    else:
+        assert ctx.get_start_method() == "spawn"
+    assert importlib.util.find_spec(execution.FORKSERVER_PRELOAD) is not None

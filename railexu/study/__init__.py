@@ -9,13 +9,14 @@ collect from each case's ``summary.json`` (or ``critical_speed.json``)::
     result.rows            # the rows of out/lateral_force/results.csv
     plot_study("out/lateral_force")
 
-Execution: every case runs in a worker process (``concurrent.futures.ProcessPoolExecutor`` with
-the ``spawn`` start method: Exudyn and numba are not fork-safe), or as a task on a Dask
-distributed cluster (``scheduler="tcp://host:port"``). The main process is the only writer of
-``results.csv``: one row is appended, flushed and synced to disk as each case finishes, so an
-interrupted study keeps every finished case, and running the same study again into the same
-folder resumes it (cases are identified by ``case_id`` and a hash of everything that decides
-their result).
+Execution: every case runs in a worker process (``concurrent.futures.ProcessPoolExecutor``
+whose workers are forked from a ``forkserver`` that has loaded the imports and compiled kernels
+once, or started with ``spawn`` where there is no fork server; never forked from the study's own
+process, which may hold threads), or as a task on a Dask distributed cluster
+(``scheduler="tcp://host:port"``). The main process is the only writer of ``results.csv``: one
+row is appended, flushed and synced to disk as each case finishes, so an interrupted study keeps
+every finished case, and running the same study again into the same folder resumes it (cases
+are identified by ``case_id`` and a hash of everything that decides their result).
 
 Files written into the output folder ``DIR``:
 

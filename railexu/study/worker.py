@@ -1,7 +1,7 @@
 """One case of a study, as run in a worker process: the picklable task and running it.
 
-``_run_case`` and ``_worker_init`` are pickled by reference (``spawn`` workers, Dask): they must
-stay module-level functions of this module.
+``_run_case`` and ``_worker_init`` are pickled by reference (``forkserver`` and ``spawn``
+workers, Dask): they must stay module-level functions of this module.
 """
 
 from __future__ import annotations
@@ -62,49 +62,79 @@ def _make_task(study: Study, case: Case, case_dir: Path | None, in_worker: bool)
     )
 
 
-def _worker_init(parent: int | None = None) -> None:
+def _worker_init(study_pid: int | None = None) -> None:
     """Worker processes ignore Ctrl-C (the main process cancels and ends them cleanly) and end
-    when their parent does: a study's main process that is killed (``kill -9``, an out-of-memory
-    kill) must not leave workers of some 200 MB each blocked forever."""
+    when the study's process does: a study's main process that is killed (``kill -9``, an
+    out-of-memory kill) must not leave workers of some 200 MB each blocked forever.
+
+    ``study_pid`` is the study's process. A ``spawn`` worker is its child; a ``forkserver``
+    worker is the fork server's child, and the fork server ends with the study's process."""
     import signal
     import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if parent is None:
-        parent = os.getppid()
-    # the parent's id is passed in: a parent killed while this worker started is noticed too
-    threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
+    if study_pid is None:
+        study_pid = os.getppid()
+    # a spawn worker watches the id passed in: a study killed while it started is noticed too
+    spawner = study_pid if os.getppid() == study_pid else os.getppid()
+    threading.Thread(target=_exit_with_parent, args=(study_pid, spawner), daemon=True).start()
     _preload()
 
 
-def _preload() -> None:
-    """Load once per worker what every case needs: the imports (numpy, scipy, Exudyn, numba, the
-    model and the assessment) and the compiled kernels (a 5 cm run of the shipped single
-    wheelset loads them from numba's cache), so that a worker's first case costs what its others
-    do and a case's ``run_time_s`` is that of the run itself. A failure here is left to the
-    cases to report."""
-    with contextlib.suppress(Exception):
-        from .. import runs  # noqa: F401
-        from ..catalog import shipped_path
-        from ..report import run_files  # noqa: F401
-        from ..run_settings import RunSettings
-        from ..simulation import simulate
-        from ..vehicle import load_vehicle
+_loaded = False  # load_case_needs has run in this process (or in the fork server it came from)
 
-        simulate(
-            load_vehicle(shipped_path("vehicles", "wheelset")), None, RunSettings(distance_m=0.05)
-        )
+
+def _preload() -> None:
+    """Load once per worker what every case needs (:func:`load_case_needs`). A failure here is
+    left to the cases to report."""
+    global _loaded
+    if _loaded:
+        return
+    with contextlib.suppress(Exception):
+        load_case_needs()
+        _loaded = True
+
+
+def load_case_needs() -> None:
+    """The imports (numpy, scipy, Exudyn, numba, the model and the assessment) and the compiled
+    kernels (a 5 cm run of the shipped single wheelset loads them from numba's cache), so that a
+    worker's first case costs what its others do and a case's ``run_time_s`` is that of the
+    run itself."""
+    from .. import runs  # noqa: F401
+    from ..catalog import shipped_path
+    from ..report import run_files  # noqa: F401
+    from ..run_settings import RunSettings
+    from ..simulation import simulate
+    from ..vehicle import load_vehicle
+
+    simulate(load_vehicle(shipped_path("vehicle", "wheelset")), None, RunSettings(distance_m=0.05))
 
 
 PARENT_POLL_S = 0.5
 
 
-def _exit_with_parent(parent: int) -> None:
-    """End this process when ``parent`` is gone (the process is then re-parented, so its parent
-    id changes): polls every :data:`PARENT_POLL_S` seconds."""
-    while os.getppid() == parent:
+def _exit_with_parent(study_pid: int, spawner: int) -> None:
+    """End this process when the study's process or the process that started this one is gone
+    (this process is then re-parented, so its parent id changes): polls every
+    :data:`PARENT_POLL_S` seconds."""
+    while os.getppid() == spawner and _alive(study_pid):
         time.sleep(PARENT_POLL_S)
     os._exit(1)
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie (killed, not yet reaped)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by another user
+        return True
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:  # no /proc (macOS): existence is all we know
+        return True
+    return stat.rsplit(")", 1)[-1].split()[0] != "Z"
 
 
 def _error_text(exc: BaseException) -> str:
