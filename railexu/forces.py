@@ -579,6 +579,36 @@ def generalized_forces(q, qt, d, out, points, ws_force):
             _frame_forces(j, q, qt, d, out)
 
 
+@numba.njit(parallel=True, **_JIT)
+def generalized_forces_threaded(q, qt, d, out, points, ws_force):
+    """:func:`generalized_forces` with the wheelsets' contacts on numba's threads
+    (:mod:`railexu.threads`): each wheelset's contact writes only its own rows, and the sums
+    into ``out`` are made afterwards in the wheelsets' order, so the results are those of
+    :func:`generalized_forces` to the last bit."""
+    n_ws = d.ws_slots.shape[0]
+    gens = np.empty((n_ws, 10))
+    works = np.empty((n_ws, 25))
+    for w in numba.prange(n_ws):
+        _wheelset(w, q, qt, d, gens[w], points, ws_force, works[w])
+    for i in range(out.shape[0]):
+        out[i] = 0.0
+    elastic = d.rail_index.shape[0] > 0
+    for w in range(n_ws):
+        o = 6 * d.ws_slots[w]
+        for k in range(6):
+            out[o + k] += gens[w, k]
+        if elastic:
+            r = d.rail_index[w]
+            for k in range(4):
+                out[r + k] += gens[w, 6 + k]
+    for b in range(d.bs_int.shape[0]):
+        _bump_stop(b, q, qt, d.qref, d.bs_int, d.bs_real, out)
+    suspension_forces(q, qt, d.qref, d.se_int, d.se_real, d.se_table, out)
+    if d.curved:
+        for j in range(d.body_slots.shape[0]):
+            _frame_forces(j, q, qt, d, out)
+
+
 def compiled_entry(function, *args):
     """The compiled machine-code entry of a numba function for arguments like ``args``,
     bypassing numba's type dispatch on every call.

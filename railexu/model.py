@@ -49,11 +49,13 @@ from .forces import (
     KernelData,
     compiled_entry,
     generalized_forces,
+    generalized_forces_threaded,
     jacobian,
 )
 from .speed_profile import SpeedProfile
 from .statics import StaticSolution, attachment_point, static_equilibrium
 from .suspension_forces import kernel_arrays, kernel_elements
+from .threads import contact_threads, use_threads
 from .track import Track
 from .traction import Traction
 from .vehicle import BumpStop, SpringDamper, TorsionSpring, Vehicle, Wheelset, linear_part
@@ -614,6 +616,8 @@ class VehicleModel:
         set_time = self.set_time if self.curved else None
         # the compiled functions, replaced by their machine-code entries in warm_up()
         self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
+        #: threads of the wheelsets' contacts in the force function (railexu.threads)
+        self.contact_threads = 1
 
         #: calls of the force function and the seconds spent in it (outputs, benchmarks)
         self.force_calls = counter = np.zeros(2)
@@ -891,8 +895,13 @@ class VehicleModel:
         self._compiled["jacobian"] = compiled_entry(
             jacobian, q, qt, self.kernel, 1.0, 0.0, jac, jac_points, jac_force
         )
+        self.contact_threads = contact_threads(self.points.shape[0])
+        forces = generalized_forces
+        if self.contact_threads > 1:
+            use_threads(self.contact_threads)
+            forces = generalized_forces_threaded
         self._compiled["forces"] = compiled_entry(
-            generalized_forces, q, qt, self.kernel, self._out, self.points, self.ws_force
+            forces, q, qt, self.kernel, self._out, self.points, self.ws_force
         )
 
     def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):

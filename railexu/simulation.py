@@ -337,6 +337,8 @@ def _solver_statistics(model: VehicleModel) -> dict:
             # evaluations of the wheel-rail force function and the wall-clock time in them
             "force_evaluations": int(calls),
             "force_function_s": float(seconds),
+            # threads of the wheelsets' contacts (railexu.threads; 1: one after the other)
+            "contact_threads": int(model.contact_threads),
         }
     except (KeyError, AttributeError):
         return {}

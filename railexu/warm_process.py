@@ -31,6 +31,8 @@ import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from .threads import run_serially_in_this_process
+
 #: the warm process's niceness (``os.nice``): a process of the default niceness that shares a
 #: core with it gets nearly all of it (Linux's scheduler weights 1024 and 15)
 NICENESS = 19
@@ -152,6 +154,7 @@ def _serve(conn, parent_end, preload: tuple[str, ...], warm_up: Callable | None)
     # Ctrl-C at a terminal reaches the whole process group: the command's process decides
     # about it (a run stops its integration and still assesses and writes its results)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    run_serially_in_this_process()  # a forked child cannot start GNU OpenMP's threads
     # the run's integration comes first: this process uses what it leaves of the processor
     with contextlib.suppress(OSError):
         os.nice(NICENESS)

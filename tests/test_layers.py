@@ -55,6 +55,7 @@ LAYERS: dict[str, int] = {
     "railexu.recorder": 6,
     "railexu.compiled_cache": 0,
     "railexu.warm_process": 0,  # the standard library only: a process that runs calls
+    "railexu.threads": 0,  # numba, imported when the first model is built
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,

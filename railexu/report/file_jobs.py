@@ -36,6 +36,7 @@ import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from ..threads import run_serially_in_this_process
 from ..warm_process import WarmProcess, can_fork
 
 
@@ -157,6 +158,7 @@ def _fork_writer(share: list[FileJob]) -> int | None:
     if pid == 0:  # the child's only job is its files; its errors are reported by its status
         status = 1
         try:
+            run_serially_in_this_process()  # a forked child cannot start GNU OpenMP's threads
             status = 0 if all([_write(job) for job in share]) else 1
             sys.stdout.flush()
             sys.stderr.flush()

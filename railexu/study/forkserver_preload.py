@@ -4,6 +4,8 @@ worker forked from the server starts warm. Importing this module runs a 5 cm sim
 shipped single wheelset (:func:`railexu.study.worker.load_case_needs`); it is meant for that
 process only. A failure is left to the cases to report (the worker then loads what it needs)."""
 
+from ..threads import run_serially_in_this_process
 from .worker import _preload
 
+run_serially_in_this_process()  # its forks are the workers: no numba threads to fork
 _preload()

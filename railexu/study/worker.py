@@ -17,6 +17,7 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..threads import run_serially_in_this_process
 from .folder import _write_json
 from .spec import RESULT_FILES, Case, Study
 
@@ -73,6 +74,7 @@ def _worker_init(study_pid: int | None = None) -> None:
     import threading
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    run_serially_in_this_process()  # the workers fill the cores: no threads on top
     if study_pid is None:
         study_pid = os.getppid()
     # a spawn worker watches the id passed in: a study killed while it started is noticed too
@@ -161,6 +163,8 @@ def _run_case(task: _Task) -> dict:
     file (for ``collect``) and, when ``task.case_dir`` is None, its files (name -> bytes).
     Never raises for a failing case: the error is part of the outcome."""
     t0 = time.perf_counter()
+    if task.in_worker:
+        run_serially_in_this_process()  # a Dask worker's too
     if task.in_worker and os.environ.get(_CRASH_ENV) == task.case_id:
         os._exit(70)  # test hook: a worker dying as on a crash in native code
     temporary = task.case_dir is None
