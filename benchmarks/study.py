@@ -4,25 +4,30 @@ The study: the seed scenario (the EU07 from a 2 mm offset on 150 m of ideal stra
 16 speeds from 10 to 25 m/s (no plots). Printed:
 
 - the 16 runs one after the other in this process (``workers=0``; this process has run one case
-  before, so its imports and compiled kernels are loaded, as a long session's would be);
+  before, so its imports and compiled kernels are loaded, as a long session's would be), with
+  the wheelsets' contacts on one thread (``RAILEXU_THREADS=1``), as in a study's workers;
 - the same study on 2 local worker processes (started for the study: their start-up, imports and
   kernel loading are in the time), and the speed-up (issue 11's budget: at least 1.8x on 2
   cores);
+- the 16 runs one by one with the contacts on threads (``railexu.threads``, the default outside
+  a study), against which 2 workers gain less: one run then already uses part of the second
+  core;
 - the median time of a case inside the workers against the same case as function calls in this
-  process (``run`` and ``write_run`` without plots, as a case does; workers stay warm: a case
-  must not cost more there).
+  process (``run`` and ``write_run`` without plots, as a case does, on one thread; workers stay
+  warm: a case must not cost more there), and the call on threads.
 
 - the machine's own limit: a fixed compiled loop (no railexu, no Exudyn) timed alone and as two
   copies in two processes at once. If two copies each run slower than one alone, no study can
   reach 2x on this machine (shared caches, memory bandwidth, a virtual machine's cores); the
   printed ceiling is 2 divided by that slowdown.
 
-Run: ``python benchmarks/study.py`` (about three minutes on 2 cores; a machine with other load gives
+Run: ``python benchmarks/study.py`` (about two minutes on 2 cores; a machine with other load gives
 smaller speed-ups).
 """
 
 from __future__ import annotations
 
+import os
 import statistics
 import tempfile
 import time
@@ -77,7 +82,7 @@ def machine_slowdown() -> float:
 
 
 def main() -> None:
-    from railexu import RunSettings, load_vehicle, run, write_run
+    from railexu import RunSettings, load_vehicle, run, threads, write_run
     from railexu.study import load_study, run_study
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -89,22 +94,35 @@ def main() -> None:
         settings = RunSettings(speed_m_per_s=17.0, distance_m=150.0, initial_lateral_m=0.002)
         write_run(run(vehicle, None, settings), Path(tmp) / "warm", plots=False)  # imports, kernels
         t0 = time.perf_counter()
+        write_run(run(vehicle, None, settings), Path(tmp) / "threads", plots=False)
+        call_threads = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        run_study(study, Path(tmp) / "one_by_one_threads", workers=0)
+        serial_threads = time.perf_counter() - t0
+        # a study's workers run the contacts on one thread (railexu.threads): the scaling is
+        # measured against the same runs on one thread
+        os.environ[threads.ENV] = "1"
+        t0 = time.perf_counter()
         write_run(run(vehicle, None, settings), Path(tmp) / "call", plots=False)
         call = time.perf_counter() - t0
-
         t0 = time.perf_counter()
         run_study(study, Path(tmp) / "one_by_one", workers=0)
         serial = time.perf_counter() - t0
+        del os.environ[threads.ENV]
         t0 = time.perf_counter()
         result = run_study(study, Path(tmp) / "two_workers", workers=2)
         parallel = time.perf_counter() - t0
         in_worker = statistics.median(float(r["run_time_s"]) for r in result.rows)
 
     print(f"study of {n} runs (the seed scenario, EU07, 150 m, at 10-25 m/s)")
-    print(f"  one by one in this process: {serial:6.1f} s")
-    print(f"  2 worker processes:         {parallel:6.1f} s   speed-up {serial / parallel:4.2f}x")
-    print(f"  a case at 17 m/s as a function call: {call:5.2f} s; median case in a worker: "
-          f"{in_worker:5.2f} s (ratio {in_worker / call:4.2f})")  # fmt: skip
+    print(f"  one by one in this process, one thread:    {serial:6.1f} s")
+    print(f"  2 worker processes (one thread each):      {parallel:6.1f} s   "
+          f"speed-up {serial / parallel:4.2f}x")  # fmt: skip
+    print(f"  one by one in this process, contacts on threads: {serial_threads:6.1f} s "
+          f"(2 workers: {serial_threads / parallel:4.2f}x faster)")  # fmt: skip
+    print(f"  a case at 17 m/s as a function call (one thread): {call:5.2f} s; median case in a "
+          f"worker: {in_worker:5.2f} s (ratio {in_worker / call:4.2f}); the call on threads: "
+          f"{call_threads:5.2f} s")  # fmt: skip
     slowdown = machine_slowdown()
     print(
         f"  this machine: a compiled loop runs {slowdown:4.2f}x slower as one of two processes "
