@@ -19,6 +19,10 @@ SIDES = ("left", "right")
 
 FORMATS = ("png", "svg")
 
+#: zlib's level for PNG files (Pillow's default is 6). On the seed run's six figures level 3
+#: encoded in 0.39 s instead of 0.69 s for files 1-8 % larger; the pixels are the same.
+PNG_COMPRESS_LEVEL = 3
+
 
 def new_figure(**kwargs) -> Figure:
     """A :class:`matplotlib.figure.Figure` (``kwargs`` as its own); matplotlib is imported here,
@@ -45,9 +49,14 @@ def save_figure(
             raise ValueError(f"figure format {fmt!r}: expected one of {FORMATS}")
         path = stem.with_suffix(f".{fmt}")
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format=fmt)
+            fig.savefig(tmp, dpi=dpi, format=fmt, **save_options(fmt))
         paths.append(path)
     return paths
+
+
+def save_options(fmt: str) -> dict:
+    """Keyword arguments of ``Figure.savefig`` for format ``fmt`` beyond the format and dpi."""
+    return {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}} if fmt == "png" else {}
 
 
 def _colour_for(values: np.ndarray):

@@ -180,7 +180,7 @@ def warm_up_figures(formats: Sequence[str] = ("png",)) -> None:
     """Import what the figures need and draw a small figure once (fonts, renderer, text): the
     warm-up of a :class:`~railexu.warm_process.WarmProcess` that will draw a run's figures."""
     from . import curving_figures, run_figures, track_figures  # noqa: F401
-    from .figures import new_figure
+    from .figures import new_figure, save_options
 
     fig = new_figure(figsize=(3, 2))
     ax = fig.subplots()
@@ -189,4 +189,4 @@ def warm_up_figures(formats: Sequence[str] = ("png",)) -> None:
     ax.set_title("warm-up")
     ax.legend(loc="upper right")
     for fmt in formats:
-        fig.savefig(io.BytesIO(), format=fmt, dpi=130)
+        fig.savefig(io.BytesIO(), format=fmt, dpi=130, **save_options(fmt))
