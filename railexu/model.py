@@ -616,8 +616,11 @@ class VehicleModel:
         set_time = self.set_time if self.curved else None
         # the compiled functions, replaced by their machine-code entries in warm_up()
         self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
-        #: threads of the wheelsets' contacts in the force function (railexu.threads)
+        #: threads of the wheelsets' contacts in the force function (railexu.threads), and the
+        #: simulated time from which they were used (None: never)
         self.contact_threads = 1
+        self.contact_threads_from_s: float | None = None
+        self._threaded: tuple | None = None  # (threads, compiled entry) prepared by warm_up
 
         #: calls of the force function and the seconds spent in it (outputs, benchmarks)
         self.force_calls = counter = np.zeros(2)
@@ -883,10 +886,16 @@ class VehicleModel:
     def _name_of(self, node: int) -> str:
         return next(k for k, v in self.node.items() if v == node)
 
-    def warm_up(self) -> None:
+    def warm_up(self, threads_now: bool = True) -> None:
         """Call the compiled force and Jacobian functions once at the initial state, so that
         their just-in-time compilation (first run after installation) or loading from numba's
-        cache happens before the integration starts and is not counted in its timing."""
+        cache happens before the integration starts and is not counted in its timing.
+
+        Args:
+            threads_now: put the wheelsets' contacts on threads at once where
+                :func:`railexu.threads.contact_threads` allows it; False: prepare them and wait
+                for :meth:`start_threads` (the same results either way).
+        """
         q = np.array(self.mbs.systemData.GetODE2Coordinates()[self.object_ltg], dtype=float)
         qt = np.array(self.mbs.systemData.GetODE2Coordinates_t()[self.object_ltg], dtype=float)
         if self.curved:
@@ -895,14 +904,29 @@ class VehicleModel:
         self._compiled["jacobian"] = compiled_entry(
             jacobian, q, qt, self.kernel, 1.0, 0.0, jac, jac_points, jac_force
         )
-        self.contact_threads = contact_threads(self.points.shape[0])
-        forces = generalized_forces
-        if self.contact_threads > 1:
-            use_threads(self.contact_threads)
-            forces = generalized_forces_threaded
-        self._compiled["forces"] = compiled_entry(
-            forces, q, qt, self.kernel, self._out, self.points, self.ws_force
-        )
+        args = (q, qt, self.kernel, self._out, self.points, self.ws_force)
+        planned = contact_threads(self.points.shape[0])
+        self._threaded = None
+        if planned > 1:
+            use_threads(planned)
+            self._threaded = (planned, compiled_entry(generalized_forces_threaded, *args))
+        if planned > 1 and threads_now:
+            self.start_threads(0.0)
+        else:
+            self._compiled["forces"] = compiled_entry(generalized_forces, *args)
+
+    @property
+    def threads_pending(self) -> bool:
+        """Threads were prepared by :meth:`warm_up` and not started yet."""
+        return self._threaded is not None and self.contact_threads == 1
+
+    def start_threads(self, t: float) -> None:
+        """From now on (simulated time ``t`` [s]) the wheelsets' contacts run on the threads
+        that :meth:`warm_up` prepared (nothing happens if it prepared none)."""
+        if self._threaded is None:
+            return
+        self.contact_threads, self._compiled["forces"] = self._threaded
+        self.contact_threads_from_s = t
 
     def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):
         """Evaluate the compiled forces at a full system state and time ``t`` into the given

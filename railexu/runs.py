@@ -52,7 +52,8 @@ def run(
     Args:
         warm: a :class:`~railexu.warm_process.WarmProcess` started before the run, as
             ``railexu run`` does: the assessment runs there (it imported ``scipy.signal`` while
-            the run integrated); the summary is the same.
+            the run integrated); the summary is the same. The wheelsets' contacts go onto
+            threads (:mod:`railexu.threads`) only once it has done its imports.
 
     Returns:
         The :class:`~railexu.simulation.RunResult`; its ``summary`` is a
@@ -64,7 +65,9 @@ def run(
             that cannot be built.
     """
     settings = settings or RunSettings()
-    result = simulate(vehicle, track, settings, progress)
+    # the contacts' threads wait until the warm process has imported what it needs
+    when = warm.warmed if warm is not None and warm.ready else None
+    result = simulate(vehicle, track, settings, progress, when)
     result.summary = assess(result, warm)
     return result
 

@@ -117,9 +117,15 @@ def simulate(
     track: Track | None = None,
     settings: RunSettings | None = None,
     progress: ProgressCallback | None = None,
+    contact_threads_when: Callable[[], bool] | None = None,
 ) -> RunResult:
     """Simulate ``vehicle`` running on ``track`` (ideal straight track by default), without the
     assessment: :func:`railexu.runs.run` adds it (the public ``railexu.run``).
+
+    ``contact_threads_when``: where the wheelsets' contacts may run on threads
+    (:mod:`railexu.threads`), they start when this returns True, asked at every output time
+    (``railexu run`` asks whether its warm process has done its imports: until then that process
+    needs the second core); None: from the start. The results are the same either way.
 
     The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
     leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
@@ -146,7 +152,7 @@ def simulate(
         speed_profile=settings.speed_profile,
         traction=settings.traction,
     )
-    model.warm_up()
+    model.warm_up(threads_now=contact_threads_when is None)
     t_built = time.perf_counter()
     order = wheelset_order(vehicle)
     ss, n_steps = _solver_settings(settings)
@@ -154,7 +160,9 @@ def simulate(
         model, vehicle, settings, order, n_steps // settings.output_every + 2,
         _flange_heights(model),
     )  # fmt: skip
-    wall_int, error, stop = _integrate(model, settings, ss, recorder, progress)
+    wall_int, error, stop = _integrate(
+        model, settings, ss, recorder, progress, contact_threads_when
+    )
     status = _final_status(model, settings, recorder, error, stop)
     ts = recorder.timeseries()
     timings = {
@@ -219,8 +227,9 @@ def _solver_settings(settings: RunSettings):
     return ss, n_steps
 
 
-def _integrate(model, settings, ss, recorder, progress):
-    """Run Exudyn's solver with recording, progress and stop signals.
+def _integrate(model, settings, ss, recorder, progress, contact_threads_when=None):
+    """Run Exudyn's solver with recording, progress and stop signals (and the contacts' threads
+    started when ``contact_threads_when()`` says so).
 
     Returns ``(wall-clock seconds, solver exception or None, stop status or None)``."""
     import exudyn as exu
@@ -242,6 +251,8 @@ def _integrate(model, settings, ss, recorder, progress):
         )
         if status is not None:
             rec["status"] = status
+        if contact_threads_when is not None and model.threads_pending and contact_threads_when():
+            model.start_threads(t)
         if progress is not None:
             elapsed = time.perf_counter() - wall0[0]
             frac = t / ti.endTime if ti.endTime > 0 else 1.0
@@ -339,6 +350,8 @@ def _solver_statistics(model: VehicleModel) -> dict:
             "force_function_s": float(seconds),
             # threads of the wheelsets' contacts (railexu.threads; 1: one after the other)
             "contact_threads": int(model.contact_threads),
+            # the simulated time from which they ran (null: never)
+            "contact_threads_from_s": model.contact_threads_from_s,
         }
     except (KeyError, AttributeError):
         return {}

@@ -66,6 +66,7 @@ class WarmProcess:
     ) -> None:
         self._worker: multiprocessing.process.BaseProcess | None = None
         self._conn = None
+        self._warmed = None  # set by the warm process when its imports and warm-up are done
         self._pending: tuple[Callable, tuple, Callable | None] | None = None
         if not start or not can_fork():
             return
@@ -74,9 +75,10 @@ class WarmProcess:
         sys.stderr.flush()
         context = multiprocessing.get_context("fork")
         mine, theirs = context.Pipe()
+        warmed = context.Event()
         try:
             worker = context.Process(
-                target=_serve, args=(theirs, mine, tuple(preload), warm_up), daemon=True
+                target=_serve, args=(theirs, mine, tuple(preload), warm_up, warmed), daemon=True
             )
             worker.start()
         except OSError:
@@ -84,12 +86,19 @@ class WarmProcess:
             return
         finally:
             theirs.close()
-        self._worker, self._conn = worker, mine
+        self._worker, self._conn, self._warmed = worker, mine, warmed
 
     @property
     def ready(self) -> bool:
         """True while the warm process is there to take calls."""
         return self._worker is not None
+
+    def warmed(self) -> bool:
+        """True once the warm process has done its imports and warm-up (or failed at them), or
+        when there is no warm process (any more): nothing is then waiting for the processor."""
+        if self._warmed is None or self._worker is None or self._warmed.is_set():
+            return True
+        return not self._worker.is_alive()
 
     def start(self, function: Callable, *args: Any, fallback: Callable | None = None) -> None:
         """Begin ``function(*args)`` in the warm process (``function`` must be importable by
@@ -148,8 +157,11 @@ class WarmProcess:
         self.close()
 
 
-def _serve(conn, parent_end, preload: tuple[str, ...], warm_up: Callable | None) -> None:
-    """The warm process: imports, warm-up, then each call's value (or a failure) back."""
+def _serve(
+    conn, parent_end, preload: tuple[str, ...], warm_up: Callable | None, warmed=None
+) -> None:
+    """The warm process: imports, warm-up (then ``warmed`` is set), then each call's value (or
+    a failure) back."""
     parent_end.close()  # else its pipe never reads its end when the command's process dies
     # Ctrl-C at a terminal reaches the whole process group: the command's process decides
     # about it (a run stops its integration and still assesses and writes its results)
@@ -163,6 +175,8 @@ def _serve(conn, parent_end, preload: tuple[str, ...], warm_up: Callable | None)
             importlib.import_module(name)
         if warm_up is not None:
             warm_up()
+    if warmed is not None:
+        warmed.set()
     while True:
         try:
             function, args = conn.recv()

@@ -68,18 +68,37 @@ def test_threaded_forces_equal_the_serial_ones_to_the_last_bit(vehicle, track):
 
 
 def test_a_run_on_threads_gives_the_serial_time_series(monkeypatch):
-    """The EU07 over 8 m from a 2 mm offset: every column identical with and without threads,
-    and the summary says how many threads the contacts used."""
+    """The EU07 over 8 m from a 2 mm offset: every column identical with threads from the start,
+    threads from the middle of the run (as ``railexu run`` starts them once its warm process has
+    done its imports) and without threads; the summary says how many threads the contacts used
+    and from when."""
+    from railexu.simulation import simulate
+
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
     settings = RunSettings(speed_m_per_s=20.0, distance_m=8.0, initial_lateral_m=0.002)
+    expected = _expected_threads(4)
     threaded = run(vehicle, ideal_straight_track(), settings)
-    assert threaded.summary["solver"]["contact_threads"] == _expected_threads(4)
+    assert threaded.summary["solver"]["contact_threads"] == expected
+    asked = []
+
+    def halfway() -> bool:
+        asked.append(True)
+        return len(asked) > 40  # asked at every output time: from the 41st on
+
+    later = simulate(vehicle, ideal_straight_track(), settings, None, halfway)
+    if expected > 1:
+        assert later.summary["solver"]["contact_threads"] == expected
+        from_s = later.summary["solver"]["contact_threads_from_s"]
+        assert from_s == later.timeseries["time_s"][40] and 0.0 < from_s < 0.4
+        assert threaded.summary["solver"]["contact_threads_from_s"] == 0.0
     monkeypatch.setenv(threads.ENV, "1")
     serial = run(vehicle, ideal_straight_track(), settings)
     assert serial.summary["solver"]["contact_threads"] == 1
+    assert serial.summary["solver"]["contact_threads_from_s"] is None
     assert list(serial.timeseries.columns) == list(threaded.timeseries.columns)
     for name, column in serial.timeseries.columns.items():
         assert np.array_equal(column, threaded.timeseries[name]), name
+        assert np.array_equal(column, later.timeseries[name]), name
 
 
 def test_the_policy(monkeypatch):

@@ -85,3 +85,34 @@ def test_without_a_warm_process_every_call_runs_here():
     assert warm.call(_pid_and_sum, 2, 3) == (os.getpid(), 5)
     with pytest.raises(RuntimeError, match="no call was started"):
         warm.finish()
+
+
+def _slow_warm_up():
+    time.sleep(0.6)
+
+
+def _failing_warm_up():
+    raise RuntimeError("no fonts")
+
+
+@needs_fork
+def test_warmed_says_when_the_warm_up_is_done():
+    """``railexu run`` starts the contacts' threads only once the warm process no longer needs
+    the second core; a failed warm-up counts as done, and so does a dead warm process."""
+    with WarmProcess(warm_up=_slow_warm_up) as warm:
+        assert not warm.warmed()
+        deadline = time.monotonic() + 30
+        while not warm.warmed() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert warm.warmed()
+    with WarmProcess(warm_up=_failing_warm_up) as warm:
+        deadline = time.monotonic() + 30
+        while not warm.warmed() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert warm.warmed() and warm.ready
+    warm = WarmProcess(warm_up=_slow_warm_up)
+    os.kill(warm._worker.pid, signal.SIGKILL)
+    warm._worker.join()
+    assert warm.warmed()
+    warm.close()
+    assert WarmProcess(start=False).warmed()
