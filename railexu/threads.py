@@ -11,6 +11,10 @@ operations in the same order: the same results to the last bit). The policy:
 - **One thread in a study's workers** (:func:`run_serially_in_this_process`): the worker
   processes already fill the cores; threads on top would slow the study down.
 - **The environment variable ``RAILEXU_THREADS``** caps the number: ``1`` turns threads off.
+- **After the warm process's imports**: ``railexu run`` starts the threads once its warm
+  process (:mod:`railexu.warm_process`, at the lowest priority) has imported what it needs;
+  OpenMP's thread spins between the force function's calls and would otherwise hold the core
+  that process is waiting for (:func:`railexu.simulation.simulate`'s ``contact_threads_when``).
 - **Never in a forked child** (:func:`run_serially_in_this_process`): GNU OpenMP cannot start
   its threads in a process forked from one where they ran. railexu's forked children (the warm
   process, the figure writer of :mod:`railexu.report.file_jobs`) only assess and draw, and are
