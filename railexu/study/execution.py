@@ -35,9 +35,8 @@ def _pool_context():
     :data:`FORKSERVER_PRELOAD` once: the imports and compiled kernels every case needs (some 1.3
     s). Each worker is then forked from it already warm, in milliseconds: a second study in the
     same session, and a pool restarted after a worker died, start at once. A forked worker also
-    ends without the interpreter's shutdown (a ``spawn`` worker's garbage collection of some
-    200 000 objects cost the study's end about 0.3 s). The fork server is Python's one per
-    session; it ends with the session.
+    ends without the interpreter's shutdown. The fork server is Python's one per session; it
+    ends with the session.
     """
     import multiprocessing
 
