@@ -20,10 +20,9 @@ operations in the same order: the same results to the last bit). The policy:
   process, the figure writer of :mod:`railexu.report.file_jobs`) only assess and draw, and are
   marked serial as they start.
 
-With two threads on two cores the EU07's force function took 45-60 us per call instead of 72-80
-us and its integration 2.2-2.8 s instead of 3.0-3.2 s (``docs/performance.md``). OpenMP's idle
-thread spins between the calls, so a run uses more processor time (some 1.5 s for the seed
-scenario).
+On two cores the seed scenario's integration is about a fifth shorter; OpenMP's idle thread
+spins between the calls, so a run uses more processor time (figures in
+``docs/performance.md``).
 """
 
 from __future__ import annotations
@@ -79,9 +78,9 @@ def contact_threads(n_wheelsets: int) -> int:
         return 1
     cap = requested_threads()
     n = min(n_wheelsets, usable_cores(), cap if cap is not None else n_wheelsets)
-    if n < 2 or not _start_threadsafe_layer():
+    if n < 2:
         return 1
-    return n
+    return max(1, min(n, _start_threadsafe_layer()))
 
 
 def threads_started() -> bool:
@@ -90,9 +89,10 @@ def threads_started() -> bool:
     return bool(parallel is not None and getattr(parallel, "_is_initialized", False))
 
 
-def _start_threadsafe_layer() -> bool:
-    """Start numba's threads with OpenMP or TBB; False if neither can be loaded or another layer
-    already runs in this process."""
+def _start_threadsafe_layer() -> int:
+    """Start numba's threads with OpenMP or TBB; how many threads numba may use
+    (``NUMBA_NUM_THREADS``), or 0 if neither layer can be loaded or another layer already runs
+    in this process."""
     import numba
     from numba.np.ufunc import parallel
 
@@ -102,14 +102,16 @@ def _start_threadsafe_layer() -> bool:
             numba.config.THREADING_LAYER = "threadsafe"
         try:
             parallel._launch_threads()
-        except (ValueError, ImportError, OSError):
-            # leave the choice as it was for other numba code in this process
+        except (ValueError, ImportError, OSError, AttributeError):
+            # (AttributeError: a numba whose internals moved.) Leave the choice as it was for
+            # other numba code in this process.
             numba.config.THREADING_LAYER = chosen
-            return False
+            return 0
     try:
-        return numba.threading_layer() in ("omp", "tbb")
+        layer = numba.threading_layer()
     except ValueError:
-        return False
+        return 0
+    return int(numba.config.NUMBA_NUM_THREADS) if layer in ("omp", "tbb") else 0
 
 
 def use_threads(n: int) -> None:

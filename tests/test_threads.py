@@ -29,9 +29,12 @@ ELASTIC = {
 
 def _expected_threads(n_wheelsets: int) -> int:
     """What the policy gives in this process, from the facts it depends on."""
+    import numba
+
     if threads.contact_threads(n_wheelsets) == 1:
         return 1  # no OpenMP or TBB here, one core, or RAILEXU_THREADS=1
-    return min(n_wheelsets, threads.usable_cores(), threads.requested_threads() or n_wheelsets)
+    cap = threads.requested_threads() or n_wheelsets
+    return min(n_wheelsets, threads.usable_cores(), cap, numba.config.NUMBA_NUM_THREADS)
 
 
 @pytest.mark.parametrize(
@@ -103,7 +106,7 @@ def test_a_run_on_threads_gives_the_serial_time_series(monkeypatch):
 
 def test_the_policy(monkeypatch):
     monkeypatch.delenv(threads.ENV, raising=False)
-    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: True)
+    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: 16)  # numba's own cap
     monkeypatch.setattr(threads, "usable_cores", lambda: 8)
     assert threads.contact_threads(1) == 1  # one wheelset: nothing to share
     assert threads.contact_threads(4) == 4  # one per wheelset
@@ -116,9 +119,10 @@ def test_the_policy(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 1)
     assert threads.contact_threads(4) == 1
     monkeypatch.setattr(threads, "usable_cores", lambda: 8)
-    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: False)
+    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: 0)
     assert threads.contact_threads(4) == 1  # only numba's workqueue: slower than one thread
-    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: True)
+    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: 2)
+    assert threads.contact_threads(4) == 2  # NUMBA_NUM_THREADS=2
     monkeypatch.setattr(threads, "_serial", True)
     assert threads.contact_threads(4) == 1  # a study's worker, a forked child
 
@@ -161,7 +165,7 @@ def test_forked_children_never_start_threads(forking, monkeypatch):
     warm process (and the figure writer, forked the same way) are serial from their start."""
     from railexu.warm_process import WarmProcess
 
-    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: True)
+    monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: 8)
     monkeypatch.setattr(threads, "usable_cores", lambda: 8)
     assert threads.contact_threads(4) == 4  # here
     with WarmProcess() as warm:
