@@ -32,7 +32,13 @@ For every vehicle it also prints where the time goes (issue 11's budget):
   (the same contact work on the states the run visits, where two-point and flange contacts
   cost more than the benchmark's mix; it includes the suspension elements' and bump stops'
   compiled forces and the call itself), and the integration divided by it: what the solver
-  adds around the force evaluations (the extra residual per step, Jacobians, the recorder).
+  adds around the force evaluations (the extra residual per step, Jacobians, the recorder);
+- *threads from*: the simulated time from which the wheelsets' contacts ran on threads
+  (``railexu.threads``; ``railexu run`` starts them once its warm process has done its imports,
+  ``-``: none, as for one wheelset);
+- and, below the table, the integration of the same run as a function call in this process
+  (``railexu.run`` from a script: no warm process, threads from the start) against the same
+  floor.
 Compare the ratios of one run of this script, not absolute times across machines or days.
 """
 
@@ -124,8 +130,9 @@ def main() -> None:
         print(
             f"{'vehicle':11s} {'whole command':>20s} {'integration':>18s} {'overhead':>9s} "
             f"{'force function':>22s} {'floor':>8s} {'int/floor':>9s} "
-            f"{'run-state floor':>15s} {'int/run floor':>13s}"
+            f"{'run-state floor':>15s} {'int/run floor':>13s} {'threads from':>12s}"
         )
+        floors = {}
         for name in VEHICLES:
             runs = sorted(
                 (run_once(name, Path(tmp) / f"{name}{k}") for k in range(3)), key=lambda r: r[0]
@@ -141,16 +148,41 @@ def main() -> None:
             calls = solver.get("force_evaluations", 0)
             in_force = solver.get("force_function_s", float("nan"))
             run_floor = solver["newton_iterations"] * in_force / max(calls, 1)
+            since = solver.get("contact_threads_from_s")
+            since_text = "-" if since is None else f"{since:.2f} s"
             print(
                 f"{name:11s} {wall:6.2f} s = {simulated / wall:5.1f}x  "
                 f"{integration:6.2f} s = {simulated / integration:5.1f}x "
                 f"{wall - integration:7.2f} s "
                 f"{in_force:6.2f} s ({calls:6d} calls) "
                 f"{floor:6.2f} s {integration / floor:8.1f}x "
-                f"{run_floor:13.2f} s {integration / run_floor:12.1f}x"
+                f"{run_floor:13.2f} s {integration / run_floor:12.1f}x {since_text:>12s}"
+            )
+            floors[name] = floor
+        print("the same runs as function calls in this process (median of three):")
+        for name in VEHICLES:
+            integration, threads = in_process(name)
+            print(
+                f"{name:11s} integration {integration:6.2f} s = {integration / floors[name]:4.1f}"
+                f" floors ({threads} thread{'s' if threads > 1 else ''})"
             )
         for law, seconds in kernel.items():
             print(f"contact kernel ({law}): {seconds * 1e6:.2f} us per wheelset evaluation")
+
+
+def in_process(vehicle: str) -> tuple[float, int]:
+    """The integration time of the seed run as ``railexu.run`` in this process (median of three,
+    after one run that loads everything) and its contact threads."""
+    from railexu import RunSettings, load_vehicle, run
+
+    v = load_vehicle(ROOT / "vehicles" / f"{vehicle}.yaml")
+    settings = RunSettings(speed_m_per_s=SPEED, distance_m=DISTANCE, initial_lateral_m=0.002)
+    run(v, None, RunSettings(speed_m_per_s=SPEED, distance_m=1.0))
+    results = sorted(
+        (r.summary["timings_s"]["integration_s"], r.summary["solver"]["contact_threads"])
+        for r in (run(v, None, settings) for _ in range(3))
+    )
+    return results[1]
 
 
 def _wheelsets(vehicle: str) -> int:
