@@ -561,16 +561,29 @@ def generalized_forces(q, qt, d, out, points, ws_force):
         out[i] = 0.0
     gen = np.empty(10)
     work = np.empty(25)
-    elastic = d.rail_index.shape[0] > 0
     for w in range(d.ws_slots.shape[0]):
         _wheelset(w, q, qt, d, gen, points, ws_force, work)
-        o = 6 * d.ws_slots[w]
-        for k in range(6):
-            out[o + k] += gen[k]
-        if elastic:
-            r = d.rail_index[w]
-            for k in range(4):
-                out[r + k] += gen[6 + k]
+        _add_wheelset(w, d, gen, out)
+    _other_forces(q, qt, d, out)
+
+
+@numba.njit(**_JIT)
+def _add_wheelset(w, d, gen, out):
+    """Add wheelset ``w``'s generalized contact forces ``gen`` (:func:`_wheelset`) into
+    ``out``: its node's 6 coordinates and, on elastic track, its 4 rail coordinates."""
+    o = 6 * d.ws_slots[w]
+    for k in range(6):
+        out[o + k] += gen[k]
+    if d.rail_index.shape[0] > 0:
+        r = d.rail_index[w]
+        for k in range(4):
+            out[r + k] += gen[6 + k]
+
+
+@numba.njit(**_JIT)
+def _other_forces(q, qt, d, out):
+    """Add the bump stops', the nonlinear suspension elements' and (curved track) the vehicle
+    frame's inertial forces into ``out``."""
     for b in range(d.bs_int.shape[0]):
         _bump_stop(b, q, qt, d.qref, d.bs_int, d.bs_real, out)
     suspension_forces(q, qt, d.qref, d.se_int, d.se_real, d.se_table, out)
@@ -592,21 +605,9 @@ def generalized_forces_threaded(q, qt, d, out, points, ws_force):
         _wheelset(w, q, qt, d, gens[w], points, ws_force, works[w])
     for i in range(out.shape[0]):
         out[i] = 0.0
-    elastic = d.rail_index.shape[0] > 0
     for w in range(n_ws):
-        o = 6 * d.ws_slots[w]
-        for k in range(6):
-            out[o + k] += gens[w, k]
-        if elastic:
-            r = d.rail_index[w]
-            for k in range(4):
-                out[r + k] += gens[w, 6 + k]
-    for b in range(d.bs_int.shape[0]):
-        _bump_stop(b, q, qt, d.qref, d.bs_int, d.bs_real, out)
-    suspension_forces(q, qt, d.qref, d.se_int, d.se_real, d.se_table, out)
-    if d.curved:
-        for j in range(d.body_slots.shape[0]):
-            _frame_forces(j, q, qt, d, out)
+        _add_wheelset(w, d, gens[w], out)
+    _other_forces(q, qt, d, out)
 
 
 def compiled_entry(function, *args):
