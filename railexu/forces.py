@@ -56,6 +56,13 @@ from .contact import kernel as K
 from .suspension_forces import suspension_forces, suspension_jacobian
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+#: the functions that allocate nothing (railexu.contact.kernel.JIT_NO_REFCOUNT)
+_JIT_NO_REFCOUNT = K.JIT_NO_REFCOUNT
+
+#: :func:`_wheelset`'s work array: the contact kernel's wheelset state (11 entries), the rails'
+#: offsets (8) and the wheelset's force (6), the vehicle frame's motion on curved track (12),
+#: then from ``WORK_FIXED`` on the contact kernel's scratch (:func:`_work_size`)
+W_STATE, W_RAILS, W_FORCE, W_FRAME, WORK_FIXED = 0, 11, 19, 25, 37
 
 #: Columns of the per-wheelset integer layout.
 WS_SLOT = 0  # node slot of the wheelset in the object's node list
@@ -130,7 +137,7 @@ class KernelData(NamedTuple):
     se_table: np.ndarray  # their characteristic tables (n, 2)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_JIT_NO_REFCOUNT)
 def _irregularity(x, start, step, values, slopes, out, speed):
     """Rail offsets at ``x`` (cubic Hermite) into ``out``: (dy_l, dz_l, vy_l, vz_l, dy_r, ...)."""
     n = values.shape[0]
@@ -283,11 +290,21 @@ def track_position(d, rx, ry, rz):
     return s, lateral, zh, psi - psif
 
 
-@numba.njit(**_JIT)
+@numba.njit(inline="always", **_JIT)
+def _work_size(d):
+    """Entries of :func:`_wheelset`'s work array: its state, rails and force (``WORK_FIXED``)
+    and the contact kernel's scratch for the largest wheel table."""
+    size = 0
+    for w in range(d.winfo.shape[0]):
+        size = max(size, K.wheelset_scratch_size(d.winfo[w, 0], d.winfo[w, 1]))
+    return WORK_FIXED + size
+
+
+@numba.njit(**_JIT_NO_REFCOUNT)
 def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     """Generalized contact forces of wheelset ``w`` on its 6 node coordinates into ``gen[:6]``
     and, on elastic track, on its 4 rail coordinates into ``gen[6:10]`` (``work``: scratch of
-    25 entries)."""
+    :func:`_work_size` entries). Compiled without reference counting: it allocates nothing."""
     o = 6 * d.ws_slots[w]
     t0 = d.qref[o + 3] + q[o + 3]
     t1 = d.qref[o + 4] + q[o + 4]
@@ -297,11 +314,11 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     d1 = qt[o + 4]
     d2 = qt[o + 5]
     x = d.qref[o] + q[o]
-    state = work[0:11]
-    rails = work[11:19]
-    force = work[19:25]
+    state = work[W_STATE:W_RAILS]
+    rails = work[W_RAILS:W_FORCE]
+    force = work[W_FORCE:W_FRAME]
     if d.curved:
-        _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails)
+        _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails, work[W_FRAME:WORK_FIXED])
     else:
         state[0] = x
         state[1] = d.qref[o + 1] + q[o + 1]
@@ -334,10 +351,11 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             rails[4 * side + 1] += q[r + 2 * side + 1]
             rails[4 * side + 2] += qt[r + 2 * side]
             rails[4 * side + 3] += qt[r + 2 * side + 1]
-    K.wheelset_contact(
+    K.wheelset_contact_with_scratch(
         d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], d.rtab[0], d.rinfo[0],
         d.wtab[d.wtab_index[w, 1]], d.winfo[w, 1],
         d.rtab[1], d.rinfo[1], d.htab, d.ktab, d.params, state, rails, points[w], force,
+        work[WORK_FIXED:],
     )  # fmt: skip
     if elastic:
         # reaction on the rail masses, and the static wheel load they carry at rest (their
@@ -374,11 +392,10 @@ def _to_local(cf, sf, cz, sz, cx, sx, vx, vy, vz):
     return a, cx * b + sx * c, -sx * b + cx * c
 
 
-@numba.njit(**_JIT)
-def _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails):
+@numba.njit(**_JIT_NO_REFCOUNT)
+def _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails, fm):
     """The kernel's state and rail offsets of wheelset ``w`` in its local track frame (curved
-    track); also fills ``d.ws_local[w]``."""
-    fm = np.empty(12)
+    track); also fills ``d.ws_local[w]`` (``fm``: scratch of 12 entries)."""
     frame_motion(d, fm)
     rx = d.qref[o] + q[o] - d.frame[FR_S]
     ry = d.qref[o + 1] + q[o + 1]
@@ -425,7 +442,7 @@ def _curved_state(w, o, q, qt, d, c0, s0, c1, s1, state, rails):
     loc[WL_FRAME_ROLL] = fm[1]
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_JIT_NO_REFCOUNT)
 def _to_vehicle_frame(cant, dpsi, phi_f, force):
     """Turn the kernel's force and torque from the local track frame (cant angle, heading
     ``dpsi`` relative to the frame) into the vehicle frame: ``Rx(phi_F)^T Rz(dpsi) Rx(cant)``."""
@@ -560,14 +577,14 @@ def generalized_forces(q, qt, d, out, points, ws_force):
     for i in range(out.shape[0]):
         out[i] = 0.0
     gen = np.empty(10)
-    work = np.empty(25)
+    work = np.empty(_work_size(d))
     for w in range(d.ws_slots.shape[0]):
         _wheelset(w, q, qt, d, gen, points, ws_force, work)
         _add_wheelset(w, d, gen, out)
     _other_forces(q, qt, d, out)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**_JIT_NO_REFCOUNT)
 def _add_wheelset(w, d, gen, out):
     """Add wheelset ``w``'s generalized contact forces ``gen`` (:func:`_wheelset`) into
     ``out``: its node's 6 coordinates and, on elastic track, its 4 rail coordinates."""
@@ -600,7 +617,7 @@ def generalized_forces_threaded(q, qt, d, out, points, ws_force):
     :func:`generalized_forces` to the last bit."""
     n_ws = d.ws_slots.shape[0]
     gens = np.empty((n_ws, 10))
-    works = np.empty((n_ws, 25))
+    works = np.empty((n_ws, _work_size(d)))
     for w in numba.prange(n_ws):
         _wheelset(w, q, qt, d, gens[w], points, ws_force, works[w])
     for i in range(out.shape[0]):
@@ -646,7 +663,7 @@ def jacobian(q, qt, d, f_q, f_v, jac, points, ws_force):
             jac[i, j] = 0.0
     gen0 = np.empty(10)
     gen1 = np.empty(10)
-    work = np.empty(25)
+    work = np.empty(_work_size(d))
     qp = q.copy()
     qtp = qt.copy()
     elastic = d.rail_index.shape[0] > 0

@@ -132,7 +132,7 @@ def test_ctrl_c_during_a_run_keeps_its_results_and_figures(tmp_path):
         "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "from railexu.cli import entry_point\n"
         f"sys.argv = ['railexu', 'run', {str(ROOT / 'vehicles' / 'wheelset.yaml')!r}, "
-        f"'--distance', '100', '--out', {str(out)!r}]\n"
+        f"'--distance', '1000', '--out', {str(out)!r}]\n"
         "entry_point()\n"
     )
     proc = subprocess.Popen(
@@ -146,7 +146,7 @@ def test_ctrl_c_during_a_run_keeps_its_results_and_figures(tmp_path):
         if not chunk:
             break
         progress += chunk
-        done = [float(m) for m in re.findall(rb"(\d+\.\d) / 100\.0 m", progress)]
+        done = [float(m) for m in re.findall(rb"(\d+\.\d) / 1000\.0 m", progress)]
         if done and done[-1] > 5.0:
             os.killpg(proc.pid, signal.SIGINT)
             break
@@ -154,7 +154,7 @@ def test_ctrl_c_during_a_run_keeps_its_results_and_figures(tmp_path):
     assert proc.returncode == 1, (progress + stderr).decode()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"]["state"] == "interrupted"
-    assert 5.0 < summary["status"]["distance_m"] < 100.0
+    assert 5.0 < summary["status"]["distance_m"] < 1000.0
     for name in ("timeseries.csv", "state.npz", "lateral_displacement.png", "wheel_load.png"):
         assert (out / name).stat().st_size > 0, name
     assert not list(out.glob(".*.tmp*"))  # no file left half-written

@@ -107,6 +107,33 @@ RI_Y0, RI_STEP, RI_N = 0, 1, 2
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
+
+def _without_reference_counting() -> dict:
+    """numba's option that compiles a function without its runtime's reference counting of
+    arrays (``{}`` for a numba that no longer has it: the functions are then compiled with it,
+    slower, with the same results).
+
+    numba counts the references to an array around each use of it in a compiled function, with
+    an atomic increment and decrement of a shared counter that its optimiser removes only
+    within simple blocks; in the search loops of this kernel, which pass the wheel and rail
+    tables down to inlined helpers, this counting took 40 % of the processor time of the seed
+    run's integration (sampled with ``perf``) and half of ``benchmarks/contact.py``'s time per
+    wheelset (docs/performance.md). The functions compiled with :data:`JIT_NO_REFCOUNT`
+    allocate nothing: their callers own every array they read or write, and their work arrays
+    (:func:`candidates_work_size`, :func:`wheelset_scratch_size`) are passed in."""
+    try:
+        from numba.core.cpu import CPUTargetOptions
+
+        return {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
+    except ImportError:  # pragma: no cover - a numba that moved its options
+        return {}
+
+
+#: Options of the compiled functions that allocate nothing (:func:`_without_reference_counting`):
+#: the contact search and the per-wheel and per-wheelset evaluations, and in
+#: :mod:`railexu.forces` the per-wheelset force.
+JIT_NO_REFCOUNT = {**_JIT, **_without_reference_counting()}
+
 #: Columns of the wheel and rail tables: value, slope, curvature, smoothed curvature (built by
 #: :mod:`railexu.contact.evaluation`), then the curvature-bound columns of
 #: :func:`with_block_bounds`: over each block of ``TABLE_BLOCK`` rows the largest ``|slope|``,
@@ -573,7 +600,7 @@ def _gap_at(s, wtab, rtab, ctx):
 _GOLDEN = 0.6180339887498949
 
 
-@numba.njit(**_JIT)
+@numba.njit(**JIT_NO_REFCOUNT)
 def _golden(sa, sb, wtab, rtab, ctx, sign, iterations):
     """Golden-section search for a local minimum of ``sign * g`` in ``[sa, sb]``."""
     c = sb - _GOLDEN * (sb - sa)
@@ -596,13 +623,13 @@ def _golden(sa, sb, wtab, rtab, ctx, sign, iterations):
     return 0.5 * (sa + sb)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**JIT_NO_REFCOUNT)
 def _refine_minimum(sa, sb, wtab, rtab, ctx):
     """Refine a local minimum of the gap bracketed by ``[sa, sb]`` (see :func:`_refine`)."""
     return _refine(sa, sb, wtab, rtab, ctx, 1.0)
 
 
-@numba.njit(**_JIT)
+@numba.njit(**JIT_NO_REFCOUNT)
 def _refine(sa, sb, wtab, rtab, ctx, sign):
     """Refine a local minimum of ``sign * g`` bracketed by ``[sa, sb]`` (``sign = -1``: a
     maximum, the hump between two minima).
@@ -663,7 +690,7 @@ def _scan_cell_py(ka, ga, dga, pya, kb, gb, dgb, pyb, stack, wtab, rtab, ctx, n_
 
 #: inlined in the scan's loop; called (not inlined) for the parts of the cells at the rail's edges
 _scan_cell = numba.njit(inline="always", **_JIT)(_scan_cell_py)
-_scan_edge_cell = numba.njit(**_JIT)(_scan_cell_py)
+_scan_edge_cell = numba.njit(**JIT_NO_REFCOUNT)(_scan_cell_py)
 
 
 @numba.njit(**_JIT)
@@ -687,6 +714,25 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     Returns:
         the number of candidates found.
     """
+    work = np.empty(candidates_work_size(winfo))
+    return _candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s, cand_g,
+                       cand_h, work)  # fmt: skip
+
+
+@numba.njit(inline="always", **_JIT)
+def candidates_work_size(winfo):
+    """Entries of :func:`_candidates`' work array for a wheel table of ``winfo[WI_N]`` rows:
+    the gap slopes at the scan's nodes (at most one per table row: the nodes are rows
+    ``k_lo + j stride`` with ``0 <= k_lo``, ``k_hi <= n - 1``, ``stride >= 1``) and the stack
+    of :func:`_hidden_minima`."""
+    return int(winfo[WI_N]) + 2 + 6 * _STACK
+
+
+@numba.njit(**JIT_NO_REFCOUNT)
+def _candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s, cand_g, cand_h,
+                work):  # fmt: skip
+    """:func:`find_contact_candidates` with its work array from the caller (at least
+    :func:`candidates_work_size` entries), compiled without reference counting."""
     ctx = _make_ctx(winfo, rinfo, cy, cz, phi, psi)
     ws0 = ctx[C_WS0]
     wstep = ctx[C_WSTEP]
@@ -725,7 +771,6 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
     # - the cell where the locus comes onto (leaves) the rail: a minimum between the rail's
     #   edge and the first (last) node when the slope there rises (falls).
     n_nodes = (k_hi - k_lo) // stride + 1
-    work = np.empty(n_nodes + 6 * _STACK)
     scan_dg = work[0:n_nodes]  # the slopes, kept for the humps below
     stack = work[n_nodes:]
     g_prev = 1.0e9
@@ -888,7 +933,7 @@ def candidate_weights(n, cand_g, cand_h, weights):
         weights[i + 1] *= (1.0 - (1.0 - theta_a) * ca * (1.0 - sb)) * cb
 
 
-@numba.njit(**_JIT)
+@numba.njit(**JIT_NO_REFCOUNT)
 def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, cz, phi, psi,
                   vx, vy, vz, wx, wy, wz, rail_dy, rail_dz, rail_vy, rail_vz, points, side,
                   force, scratch):  # fmt: skip
@@ -913,7 +958,8 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         side: 0 left, 1 right.
         force: output, 6 entries; the wheel's force [N] and torque about the wheelset centre
             [N m] (track frame) are **added** to it.
-        scratch: work array of at least ``4 * MAX_POINTS`` entries.
+        scratch: work array of at least ``4 * MAX_POINTS + candidates_work_size(winfo)``
+            entries.
 
     Returns:
         the number of contact points carrying load.
@@ -932,9 +978,10 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     cand_g = scratch[MAX_POINTS : 2 * MAX_POINTS]
     cand_h = scratch[2 * MAX_POINTS : 3 * MAX_POINTS]
     weights = scratch[3 * MAX_POINTS : 4 * MAX_POINTS]
-    n_cand = find_contact_candidates(
-        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g, cand_h
-    )
+    n_cand = _candidates(
+        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g, cand_h,
+        scratch[4 * MAX_POINTS :],
+    )  # fmt: skip
     candidate_weights(n_cand, cand_g, cand_h, weights)
     for k in range(MAX_POINTS):
         for f in range(N_POINT_FIELDS):
@@ -1099,9 +1146,28 @@ def wheelset_contact(wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r, 
     Returns:
         the number of loaded contact points of the wheelset.
     """
+    scratch = np.empty(wheelset_scratch_size(winfo_l, winfo_r))
+    return wheelset_contact_with_scratch(
+        wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r, rinfo_r, htab, ktab, params,
+        state, rails, points, force, scratch,
+    )  # fmt: skip
+
+
+@numba.njit(inline="always", **_JIT)
+def wheelset_scratch_size(winfo_l, winfo_r):
+    """Entries of :func:`wheelset_contact_with_scratch`'s scratch array for the wheel tables of
+    ``winfo_l``, ``winfo_r``."""
+    return 4 * MAX_POINTS + max(candidates_work_size(winfo_l), candidates_work_size(winfo_r))
+
+
+@numba.njit(**JIT_NO_REFCOUNT)
+def wheelset_contact_with_scratch(wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r,
+                                  rinfo_r, htab, ktab, params, state, rails, points, force,
+                                  scratch):  # fmt: skip
+    """:func:`wheelset_contact` with its scratch array from the caller (at least
+    :func:`wheelset_scratch_size` entries), compiled without reference counting."""
     for i in range(6):
         force[i] = 0.0
-    scratch = np.empty(4 * MAX_POINTS)
     n = wheel_contact(
         wtab_l, winfo_l, rtab_l, rinfo_l, htab, ktab, params, 1.0, state[0], state[1], state[2],
         state[3], state[4], state[5], state[6], state[7], state[8], state[9], state[10],
