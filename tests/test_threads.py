@@ -171,3 +171,25 @@ def test_forked_children_never_start_threads(forking, monkeypatch):
     with WarmProcess() as warm:
         assert warm.ready
         assert warm.call(threads.contact_threads, 4) == 1  # there
+
+
+def test_the_command_runs_blas_on_one_thread_unless_told_otherwise():
+    """``railexu.cli`` sets ``OPENBLAS_NUM_THREADS=1`` before numpy loads (OpenBLAS's idle
+    threads busy-wait on the cores the contacts' threads need; railexu's matrices are small),
+    so the process has no BLAS threads; a value the user set is kept."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import os, railexu.cli, numpy, scipy.linalg\n"
+        "print(os.environ['OPENBLAS_NUM_THREADS'], len(os.listdir('/proc/self/task')))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True).stdout.split()  # fmt: skip
+    assert out == ["1", "1"]  # the variable, and no thread beside the main one
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True).stdout.split()  # fmt: skip
+    assert out[0] == "2"

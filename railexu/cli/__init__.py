@@ -19,7 +19,18 @@ import traceback
 from collections.abc import Sequence
 
 from ..errors import ComputationError, InputError
-from . import animate, contact, creep, critical_speed, listing, plot, report, run, study
+from . import (
+    _blas,  # noqa: F401  (first: BLAS's threads, before numpy loads)
+    animate,
+    contact,
+    creep,
+    critical_speed,
+    listing,
+    plot,
+    report,
+    run,
+    study,
+)
 from .common import (
     EXIT_BUG,
     EXIT_CODES_HELP,
