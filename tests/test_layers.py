@@ -56,6 +56,7 @@ LAYERS: dict[str, int] = {
     "railexu.compiled_cache": 0,
     "railexu.warm_process": 0,  # the standard library only: a process that runs calls
     "railexu.threads": 0,  # numba, imported when the first model is built
+    "railexu.blas_threads": 0,  # sets OPENBLAS_NUM_THREADS before numpy loads
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,

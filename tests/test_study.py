@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import os
 import shutil
 import sys
 import textwrap
@@ -936,3 +937,25 @@ def test_local_workers_come_from_a_fork_server_that_preloads_the_cases_needs():
     else:
         assert ctx.get_start_method() == "spawn"
     assert importlib.util.find_spec(execution.FORKSERVER_PRELOAD) is not None
+
+
+def test_a_studys_workers_run_blas_on_one_thread():
+    """The fork server imports railexu.blas_threads before its preload loads numpy, so the
+    workers have no BLAS threads busy-waiting beside the other workers' cases."""
+    import multiprocessing
+
+    from railexu.study import execution
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork server here (the spawn workers keep the study's setting)")
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(1, mp_context=execution._pool_context()) as pool:
+        value, threads = pool.submit(_blas_setting).result()
+    assert value == os.environ.get("OPENBLAS_NUM_THREADS", "1")
+    assert threads == 1 or value != "1"
+
+
+def _blas_setting() -> tuple[str, int]:
+    """In a worker: OPENBLAS_NUM_THREADS and the number of threads of the process."""
+    return os.environ["OPENBLAS_NUM_THREADS"], len(os.listdir("/proc/self/task"))

@@ -174,9 +174,10 @@ def test_forked_children_never_start_threads(forking, monkeypatch):
 
 
 def test_the_command_runs_blas_on_one_thread_unless_told_otherwise():
-    """``railexu.cli`` sets ``OPENBLAS_NUM_THREADS=1`` before numpy loads (OpenBLAS's idle
-    threads busy-wait on the cores the contacts' threads need; railexu's matrices are small),
-    so the process has no BLAS threads; a value the user set is kept."""
+    """``railexu.cli`` sets ``OPENBLAS_NUM_THREADS=1`` before numpy loads
+    (:mod:`railexu.blas_threads`: OpenBLAS's idle threads busy-wait on the cores the contacts'
+    threads need; railexu's matrices are small), so the process has no BLAS threads; a value
+    the user set is kept."""
     import os
     import subprocess
     import sys

@@ -18,19 +18,9 @@ import sys
 import traceback
 from collections.abc import Sequence
 
+from .. import blas_threads  # noqa: F401  (first: BLAS on one thread, before numpy loads)
 from ..errors import ComputationError, InputError
-from . import (
-    _blas,  # noqa: F401  (first: BLAS's threads, before numpy loads)
-    animate,
-    contact,
-    creep,
-    critical_speed,
-    listing,
-    plot,
-    report,
-    run,
-    study,
-)
+from . import animate, contact, creep, critical_speed, listing, plot, report, run, study
 from .common import (
     EXIT_BUG,
     EXIT_CODES_HELP,

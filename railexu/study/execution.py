@@ -32,8 +32,9 @@ def _pool_context():
     threads (a notebook's, Dask's, numba's) and an Exudyn system.
 
     The fork server is a new, single-threaded interpreter that imports
-    :data:`FORKSERVER_PRELOAD` once: the imports and compiled kernels every case needs (some 1.3
-    s). Each worker is then forked from it already warm, in milliseconds: a second study in the
+    :data:`FORKSERVER_PRELOAD` once: the imports and compiled kernels every case needs (some 1.0
+    s), after :mod:`railexu.blas_threads` (BLAS on one thread: the workers fill the cores).
+    Each worker is then forked from it already warm, in milliseconds: a second study in the
     same session, and a pool restarted after a worker died, start at once. A forked worker also
     ends without the interpreter's shutdown. The fork server is Python's one per session; it
     ends with the session.
@@ -43,7 +44,8 @@ def _pool_context():
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return multiprocessing.get_context("spawn")
     ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload([FORKSERVER_PRELOAD])
+    # BLAS on one thread in the workers (railexu.blas_threads), set before the preload's numpy
+    ctx.set_forkserver_preload(["railexu.blas_threads", FORKSERVER_PRELOAD])
     return ctx
 
 
