@@ -57,6 +57,7 @@ LAYERS: dict[str, int] = {
     "railexu.warm_process": 0,  # the standard library only: a process that runs calls
     "railexu.threads": 0,  # numba, imported when the first model is built
     "railexu.blas_threads": 0,  # sets OPENBLAS_NUM_THREADS before numpy loads
+    "railexu.gc_pause": 0,  # the console script's start-up without cyclic collection
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,
@@ -66,6 +67,7 @@ LAYERS: dict[str, int] = {
     "railexu.report": 8,
     "railexu.study": 9,
     "railexu.cli": 10,
+    "railexu.console": 10,  # the console script: start-up settings, then railexu.cli
     "railexu": 11,  # the front door (railexu/__init__.py) re-exports from every layer
 }
 LAYER_NAMES = [

@@ -18,7 +18,10 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from .. import blas_threads  # noqa: F401  (first: BLAS on one thread, before numpy loads)
+from .. import (
+    blas_threads,  # noqa: F401  (first: BLAS on one thread, before numpy loads)
+    gc_pause,
+)
 from ..errors import ComputationError, InputError
 from . import animate, contact, creep, critical_speed, listing, plot, report, run, study
 from .common import (
@@ -64,6 +67,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``railexu`` command; returns the exit status."""
     parser = build_parser()
     args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
+    if not getattr(args, "resumes_collection", False):
+        gc_pause.resume()  # the console script paused it for the imports (railexu.gc_pause)
     name = f"railexu {args.command}"
     try:
         return int(args.func(args))

@@ -6,6 +6,7 @@ import argparse
 import sys
 from functools import partial
 
+from .. import gc_pause
 from .common import EXIT_FAILED, EXIT_OK, CliError, quantity, split_overrides
 
 
@@ -104,7 +105,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument("--no-plots", action="store_true", help="write data only (as --plots none)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
-    p.set_defaults(func=command)
+    # the start-up's pause of the garbage collector ends in command(), after the warm process's
+    # fork (railexu.gc_pause)
+    p.set_defaults(func=command, resumes_collection=True)
     return p
 
 
@@ -176,6 +179,7 @@ def command(args: argparse.Namespace) -> int:
     # a process that gets ready for the assessment and the figures while the run integrates
     # (railexu.warm_process): the results are the same as without it
     warm = WarmProcess(_WARM_MODULES, partial(warm_up_figures, formats) if formats else None)
+    gc_pause.resume()  # after the imports and the fork: the warm process keeps it paused
     try:
         vehicle_set, track_set = split_overrides(args.set)
         vehicle = load_vehicle(vehicle_file, vehicle_set)
