@@ -60,7 +60,8 @@ SPEED, DISTANCE = 10.0, 150.0
 def run_once(vehicle: str, out: Path, *extra: str, speed: float = SPEED,
              distance: float = DISTANCE, lateral: str = "0.002") -> tuple[float, dict]:  # fmt: skip
     cmd = [
-        sys.executable, "-c", "from railexu.cli import entry_point; entry_point()", "run",
+        # what the console script runs (railexu.console: BLAS's threads, the paused collector)
+        sys.executable, "-c", "from railexu.console import entry_point; entry_point()", "run",
         str(ROOT / "vehicles" / f"{vehicle}.yaml"),
         "--speed", str(speed), "--distance", str(distance), "--initial-lateral", lateral,
         "--out", str(out), "--quiet", *extra,

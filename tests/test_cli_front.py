@@ -24,7 +24,7 @@ def run_cli(args: list[str], cwd: Path | None = None) -> subprocess.CompletedPro
     """The installed ``railexu`` console script, as a user runs it."""
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     return subprocess.run(
-        [sys.executable, "-c", "from railexu.cli import entry_point; entry_point()", *args],
+        [sys.executable, "-c", "from railexu.console import entry_point; entry_point()", *args],
         cwd=cwd,
         capture_output=True,
         text=True,
