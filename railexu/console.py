@@ -1,16 +1,14 @@
 """The ``railexu`` console script (``[project.scripts]`` in ``pyproject.toml``): starts the
 command as cheaply as it can, then runs :func:`railexu.cli.entry_point`.
 
-Before anything imports numpy it sets BLAS to one thread (:mod:`railexu.blas_threads`) and
-pauses the cyclic garbage collector for the command's start-up (:mod:`railexu.gc_pause`).
+Before anything imports numpy it pauses the cyclic garbage collector for the command's
+start-up (:mod:`railexu.gc_pause`); :mod:`railexu.cli` then sets BLAS to one thread first
+(:mod:`railexu.blas_threads`).
 """
 
 from __future__ import annotations
 
-from . import (
-    blas_threads,  # noqa: F401  (before numpy loads)
-    gc_pause,
-)
+from . import gc_pause
 
 
 def entry_point() -> None:

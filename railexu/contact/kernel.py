@@ -734,6 +734,14 @@ def _candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s, c
     """:func:`find_contact_candidates` with its work array from the caller (at least
     :func:`candidates_work_size` entries), compiled without reference counting."""
     ctx = _make_ctx(winfo, rinfo, cy, cz, phi, psi)
+    return _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work)
+
+
+@numba.njit(**JIT_NO_REFCOUNT)
+def _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work):
+    """:func:`_candidates` for the wheelset pose of ``ctx`` (:func:`_make_ctx`), which
+    :func:`wheel_contact` builds once for the search and the contact points."""
+    cy = ctx[C_CY]
     ws0 = ctx[C_WS0]
     wstep = ctx[C_WSTEP]
     wn = int(ctx[C_WN])
@@ -978,15 +986,13 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     cand_g = scratch[MAX_POINTS : 2 * MAX_POINTS]
     cand_h = scratch[2 * MAX_POINTS : 3 * MAX_POINTS]
     weights = scratch[3 * MAX_POINTS : 4 * MAX_POINTS]
-    n_cand = _candidates(
-        wtab, winfo, rtab, rinfo, lcy, lcz, lphi, lpsi, params[P_SCAN], cand_s, cand_g, cand_h,
-        scratch[4 * MAX_POINTS :],
-    )  # fmt: skip
+    ctx = _make_ctx(winfo, rinfo, lcy, lcz, lphi, lpsi)
+    n_cand = _candidates_at(wtab, rtab, ctx, params[P_SCAN], cand_s, cand_g, cand_h,
+                            scratch[4 * MAX_POINTS :])  # fmt: skip
     candidate_weights(n_cand, cand_g, cand_h, weights)
     for k in range(MAX_POINTS):
         for f in range(N_POINT_FIELDS):
             points[side, k, f] = 0.0
-    ctx = _make_ctx(winfo, rinfo, lcy, lcz, lphi, lpsi)
     ws0 = winfo[WI_S0]
     wstep = winfo[WI_STEP]
     wn = int(winfo[WI_N])
