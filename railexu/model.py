@@ -626,11 +626,18 @@ class VehicleModel:
         self.force_calls = counter = np.zeros(2)
         clock = time.perf_counter
 
+        # Exudyn passes the coordinates as lists: np.fromiter with the count converts one in
+        # half the time of np.array (0.45 against 0.93 us for 42 numbers, twice per call)
+        as_array = np.fromiter
+
         def contact_forces(mbs_, t, item, q, q_t):
             start = clock()
             if set_time is not None:
                 set_time(t)
-            compiled["forces"](np.array(q), np.array(q_t), data, out, points, ws_force)
+            compiled["forces"](
+                as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, out, points,
+                ws_force,
+            )  # fmt: skip
             counter[0] += 1.0
             counter[1] += clock() - start
             return out
@@ -644,8 +651,8 @@ class VehicleModel:
             if set_time is not None:
                 set_time(t)
             compiled["jacobian"](
-                np.array(q), np.array(q_t), data, float(f_q), float(f_v), jac, jac_points,
-                jac_force,
+                as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, float(f_q),
+                float(f_v), jac, jac_points, jac_force,
             )  # fmt: skip
             return jac
 

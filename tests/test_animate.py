@@ -87,6 +87,30 @@ def test_state_file_holds_the_run(bogie_run):
     assert len(_flange_frames(state)) > 0, "the bogie at 45 m/s reaches its flanges by 60 m"
 
 
+def test_state_file_is_a_numpy_archive(bogie_run):
+    """``state.npz`` is what ``numpy.savez_compressed`` writes (a deflated zip of ``.npy``
+    members that ``numpy.load`` reads), at zlib's fast level: the same arrays, bit for bit."""
+    import zipfile
+
+    from railexu.report.state_file import COMPRESS_LEVEL
+
+    _, out = bogie_run
+    with zipfile.ZipFile(out / "state.npz") as zf:
+        infos = zf.infolist()
+    assert infos and all(i.compress_type == zipfile.ZIP_DEFLATED for i in infos)
+    assert all(i.filename.endswith(".npy") for i in infos)
+    assert COMPRESS_LEVEL == 1
+    with np.load(out / "state.npz", allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files}
+    again = out / "numpy_savez.npz"
+    np.savez_compressed(again, **arrays)
+    with np.load(again, allow_pickle=False) as z:
+        assert sorted(z.files) == sorted(arrays)
+        for name, array in arrays.items():
+            np.testing.assert_array_equal(z[name], array, err_msg=name)
+            assert z[name].dtype == array.dtype
+
+
 def test_contact_points_are_where_the_kernel_finds_them(bogie_run):
     """Positions placed from the wheel coordinate and the pose against the kernel's own
     track-frame positions, at tread and flange frames."""
