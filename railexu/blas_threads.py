@@ -1,7 +1,7 @@
 """Imported for its effect, before numpy loads: BLAS on one thread in this process and its
 children, unless ``OPENBLAS_NUM_THREADS`` is already set. :mod:`railexu.cli` imports it first
 (the console script, :mod:`railexu.console`, through it), and a study's fork server before its
-preload (:func:`railexu.study.execution._pool_context`).
+preload (:data:`railexu.fork_server.PRELOAD`).
 
 railexu's matrices are small (a vehicle's 40-odd coordinates), so BLAS never gains from
 threads here; but OpenBLAS (under numpy and scipy, each with its own pool) keeps its idle

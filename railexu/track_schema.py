@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from .contact.placement import STANDARD_GAUGE_M
+from .contact.standard_gauge import STANDARD_GAUGE_M
 from .inputs import OPTIONAL, REQUIRED, Field, Schema
 from .irregularities import COMPONENTS, available_spectra
 

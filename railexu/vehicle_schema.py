@@ -9,7 +9,7 @@ tables of ``docs/vehicle-format.md`` are generated from it (``python -m railexu.
 from __future__ import annotations
 
 from .contact.parameters import CREEP_MODELS, DAMPING_MODELS, ContactParameters
-from .contact.placement import STANDARD_FLANGE_BACK_M
+from .contact.standard_gauge import STANDARD_FLANGE_BACK_M
 from .inputs import OPTIONAL, Field, Schema
 
 #: The format this railexu writes; :data:`READ_VERSIONS` are the ones it reads.

@@ -210,6 +210,27 @@ def test_importing_railexu_is_cheap():
     assert done.stdout.strip() == ""
 
 
+def test_the_command_line_answers_help_and_bad_names_before_the_numerical_libraries_load(
+    tmp_path,
+):
+    """`railexu --help`, and `railexu run` with a vehicle that does not exist, answer without
+    importing numpy, scipy, numba, Exudyn or matplotlib: the sub-commands import those when
+    they work (a mistyped name is told in a tenth of a second, not half a second)."""
+    code = (
+        "import sys\n"
+        "from railexu.cli import main\n"
+        "heavy = ('numpy', 'scipy', 'numba', 'exudyn', 'matplotlib')\n"
+        "print([m for m in heavy if m in sys.modules])\n"
+        f"status = main(['run', 'nosuch_vehicle', '--out', {str(tmp_path / 'out')!r}])\n"
+        "print(status, [m for m in heavy if m in sys.modules])\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:2] == ["[]", f"{EXIT_INPUT} []"]
+    assert "nosuch_vehicle" in done.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
     """`railexu run --no-plots` (what a study's cases do) never pays matplotlib's import, nor
     the study layer's."""

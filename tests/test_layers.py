@@ -58,6 +58,7 @@ LAYERS: dict[str, int] = {
     "railexu.threads": 0,  # numba, imported when the first model is built
     "railexu.blas_threads": 0,  # sets OPENBLAS_NUM_THREADS before numpy loads
     "railexu.gc_pause": 0,  # the console script's start-up without cyclic collection
+    "railexu.fork_server": 0,  # the standard library only: a study's workers' fork server
     "railexu.record_row": 5,
     "railexu.preflight": 6,
     "railexu.results": 7,

@@ -929,14 +929,57 @@ def test_local_workers_come_from_a_fork_server_that_preloads_the_cases_needs():
     import importlib.util
     import multiprocessing
 
-    from railexu.study import execution
+    from railexu import fork_server
 
-    ctx = execution._pool_context()
+    ctx = fork_server.pool_context()
     if "forkserver" in multiprocessing.get_all_start_methods():
         assert ctx.get_start_method() == "forkserver"
     else:
         assert ctx.get_start_method() == "spawn"
-    assert importlib.util.find_spec(execution.FORKSERVER_PRELOAD) is not None
+    assert fork_server.PRELOAD[0] == "railexu.blas_threads"  # before the preload's numpy
+    for name in fork_server.PRELOAD:
+        assert importlib.util.find_spec(name) is not None
+
+
+def test_the_fork_server_starts_ahead_of_the_pool():
+    """`railexu study` starts the fork server before it reads the study (its preload then runs
+    on another core); a pool made afterwards uses that server."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from railexu import fork_server
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        assert fork_server.start() is False
+        return
+    assert fork_server.start() is True
+    assert fork_server.start() is True  # running already: nothing new
+    with ProcessPoolExecutor(1, mp_context=fork_server.pool_context()) as pool:
+        assert pool.submit(os.getpid).result() != os.getpid()
+
+
+@pytest.mark.parametrize(
+    ("options", "starts"),
+    [(["--workers", "0"], False), (["--workers", "2"], True), ([], True)],
+)
+def test_the_study_command_starts_the_fork_server_only_for_local_workers(
+    tmp_path, monkeypatch, options, starts
+):
+    from railexu import fork_server
+    from railexu.cli import study as study_cli
+
+    calls = []
+    monkeypatch.setattr(fork_server, "start", lambda: calls.append(1) or True)
+    parser = argparse.ArgumentParser(prog="railexu")
+    add_study_parser(parser.add_subparsers(dest="command"))
+    path = write_study(tmp_path, "vary:\n  parameters:\n    run.speed: [10 m/s]\n")
+    args = parser.parse_args(["study", str(path), "--out", str(tmp_path / "out"), *options])
+    study_cli.start_workers_early(args)
+    assert bool(calls) is starts
+    missing = parser.parse_args(["study", str(tmp_path / "missing.yaml"), "--out", "x"])
+    calls.clear()
+    study_cli.start_workers_early(missing)  # no study file: the command fails at once
+    assert not calls
 
 
 def test_a_studys_workers_run_blas_on_one_thread():
@@ -944,13 +987,13 @@ def test_a_studys_workers_run_blas_on_one_thread():
     workers have no BLAS threads busy-waiting beside the other workers' cases."""
     import multiprocessing
 
-    from railexu.study import execution
+    from railexu import fork_server
 
     if "forkserver" not in multiprocessing.get_all_start_methods():
         pytest.skip("no fork server here (the spawn workers keep the study's setting)")
     from concurrent.futures import ProcessPoolExecutor
 
-    with ProcessPoolExecutor(1, mp_context=execution._pool_context()) as pool:
+    with ProcessPoolExecutor(1, mp_context=fork_server.pool_context()) as pool:
         value, threads = pool.submit(_blas_setting).result()
     assert value == os.environ.get("OPENBLAS_NUM_THREADS", "1")
     assert threads == 1 or value != "1"

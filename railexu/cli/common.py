@@ -4,10 +4,9 @@ overrides, the help formatter."""
 from __future__ import annotations
 
 import argparse
+import math
 import re
 from collections.abc import Callable, Sequence
-
-import numpy as np
 
 from ..errors import InputError
 
@@ -52,7 +51,7 @@ def quantity(unit: str) -> Callable[[str], float]:
         except ValueError:
             value = None
         if value is not None:
-            if not np.isfinite(value):
+            if not math.isfinite(value):
                 raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
             return value
         spaced = re.sub(r"^([-+]?[\d.]+(?:[eE][-+]?\d+)?)(?=[A-Za-z])", r"\1 ", text.strip())
@@ -60,7 +59,7 @@ def quantity(unit: str) -> Callable[[str], float]:
             value = to_si(spaced, unit)
         except UnitError as exc:
             raise argparse.ArgumentTypeError(f"{exc} (a bare number is in {unit})") from None
-        if not np.isfinite(value):
+        if not math.isfinite(value):
             raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
         return value
 
@@ -87,6 +86,8 @@ def join_negative_values(argv: Sequence[str]) -> list[str]:
 def parse_range(text: str, name: str = "range") -> tuple[float, ...]:
     """Values from ``FROM:TO:STEP`` (inclusive of TO within half a step), or a single value,
     or a comma-separated list."""
+    import numpy as np  # here: the command line parses its arguments before numpy loads
+
     text = text.strip()
     try:
         if ":" in text:

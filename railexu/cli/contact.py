@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..contact.placement import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
+from ..contact.standard_gauge import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
 from .common import CliError, parse_range, quantity
 
 #: Largest sweep (lateral positions, amplitudes) the command accepts.

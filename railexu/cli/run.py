@@ -162,19 +162,23 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
 
 
 def command(args: argparse.Namespace) -> int:
+    # the checks that need no numerical library first: a wrong name or folder fails at once
     from ..catalog import find_input
     from ..report.file_jobs import warm_up_figures
     from ..report.folder import OutputFolder
-    from ..report.run_files import write_run
-    from ..runs import RunSettings, print_progress, run
-    from ..track import ideal_straight_track, load_track
-    from ..vehicle import load_vehicle
     from ..warm_process import WarmProcess
 
     formats = plot_formats(args.plots, args.no_plots)
     # names are looked up before the output folder exists (`railexu run eu07 --out eu07`)
     vehicle_file = find_input("vehicle", args.vehicle)
     track_file = find_input("track", args.track) if args.track else None
+    # the run's modules (Exudyn, numba, the model) before the warm process forks: it gets them
+    # without importing them again (what it is handed after the run needs them)
+    from ..report.run_files import write_run
+    from ..runs import RunSettings, print_progress, run
+    from ..track import ideal_straight_track, load_track
+    from ..vehicle import load_vehicle
+
     folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
     # a process that gets ready for the assessment and the figures while the run integrates
     # (railexu.warm_process): the results are the same as without it

@@ -43,7 +43,18 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
+def start_workers_early(args: argparse.Namespace) -> None:
+    """With local workers, start their fork server now: it preloads on another core while this
+    process imports the study layer and reads the study (:mod:`railexu.fork_server`). Not for
+    ``--workers 0``, a Dask cluster or a study file that does not exist."""
+    if args.scheduler is None and args.workers != 0 and Path(args.study).is_file():
+        from .. import fork_server
+
+        fork_server.start()
+
+
 def command(args: argparse.Namespace) -> int:
+    start_workers_early(args)
     # imported here: `railexu run` and the other sub-commands do not load the study layer
     from ..study.errors import StudyWarning
     from ..study.folder import PLOTS_DIR, RESULTS_CSV

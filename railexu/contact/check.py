@@ -24,8 +24,9 @@ from .evaluation import ContactParameters, ContactPoint, WheelsetContactModel
 from .kalker import kalker_coefficients
 from .kik_piotrowski import patch_creep_forces, wheel_point_patch
 from .parameters import ContactParameterError
-from .placement import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M, wheelset_geometry
+from .placement import wheelset_geometry
 from .quasistatic import ContactSolveError, PressedWheelset, press_free_rolling, press_wheelset
+from .standard_gauge import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
 
 #: Rolling conditions of :func:`contact_check`.
 ROLLING_MODES = ("free", "nominal")

@@ -20,18 +20,13 @@ import numpy as np
 
 from ..errors import InputError
 from ..profiles import Profile, SampledProfile, rail_profile, wheel_profile
+from .standard_gauge import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
 
 #: Lateral step of the tables the compiled kernel interpolates [m].
 TABLE_STEP_M = 5.0e-5
 
 #: Default gauge measurement depth below the top of rail [m] (EN 13848-1).
 GAUGE_MEASUREMENT_DEPTH_M = 0.014
-#: Standard gauge [m] (EN 13848-1: 1435 mm, measured 14 mm below the top of rail): the one
-#: declaration of this default; track files and commands take theirs from here.
-STANDARD_GAUGE_M = 1.435
-#: Flange-back distance of standard-gauge wheelsets [m] (EN 13260: 1360 mm): the one
-#: declaration of this default.
-STANDARD_FLANGE_BACK_M = 1.360
 
 
 class PlacementError(InputError):

@@ -9,8 +9,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 if TYPE_CHECKING:  # matplotlib is imported by the modules that draw (not by a run without plots)
     from matplotlib.figure import Figure
 
@@ -59,7 +57,9 @@ def save_options(fmt: str) -> dict:
     return {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}} if fmt == "png" else {}
 
 
-def _colour_for(values: np.ndarray):
+def _colour_for(values):
+    """A function from a value to its viridis colour over the range of ``values``."""
+    import numpy as np
     from matplotlib import colormaps
 
     cmap = colormaps["viridis"]

@@ -13,6 +13,7 @@ from collections import deque
 from collections.abc import Iterator, Sequence
 from typing import Any
 
+from ..fork_server import pool_context
 from .errors import StudyError
 from .worker import _error_text, _outcome, _run_case, _Task, _worker_init
 
@@ -22,42 +23,15 @@ def _run_inline(tasks: Sequence[_Task]) -> Iterator[dict]:
         yield _run_case(task)
 
 
-#: The module a ``forkserver`` imports before it forks the first worker (see :func:`_pool_context`).
-FORKSERVER_PRELOAD = "railexu.study.forkserver_preload"
-
-
-def _pool_context():
-    """The start method of the local workers: ``forkserver`` where there is one (Linux, macOS),
-    ``spawn`` elsewhere (Windows). Never plain ``fork`` of the study's own process, which may hold
-    threads (a notebook's, Dask's, numba's) and an Exudyn system.
-
-    The fork server is a new, single-threaded interpreter that imports
-    :data:`FORKSERVER_PRELOAD` once: the imports and compiled kernels every case needs (some 1.0
-    s), after :mod:`railexu.blas_threads` (BLAS on one thread: the workers fill the cores).
-    Each worker is then forked from it already warm, in milliseconds: a second study in the
-    same session, and a pool restarted after a worker died, start at once. A forked worker also
-    ends without the interpreter's shutdown. The fork server is Python's one per session; it
-    ends with the session.
-    """
-    import multiprocessing
-
-    if "forkserver" not in multiprocessing.get_all_start_methods():
-        return multiprocessing.get_context("spawn")
-    ctx = multiprocessing.get_context("forkserver")
-    # BLAS on one thread in the workers (railexu.blas_threads), set before the preload's numpy
-    ctx.set_forkserver_preload(["railexu.blas_threads", FORKSERVER_PRELOAD])
-    return ctx
-
-
 def _run_local(tasks: Sequence[_Task], workers: int) -> Iterator[dict]:
-    """Run tasks on a local process pool (:func:`_pool_context`), at most ``workers`` in flight.
-    If a worker process dies (a crash in native code, out of memory), the cases that were in
-    flight are run again one at a time, so that only the case that kills its worker is recorded
-    as failed."""
+    """Run tasks on a local process pool (:func:`railexu.fork_server.pool_context`), at most
+    ``workers`` in flight. If a worker process dies (a crash in native code, out of memory),
+    the cases that were in flight are run again one at a time, so that only the case that
+    kills its worker is recorded as failed."""
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
 
-    ctx = _pool_context()
+    ctx = pool_context()
     queue: deque[_Task] = deque(tasks)
     suspects: deque[_Task] = deque()
     isolated: set[str] = set()  # suspects in flight: nothing else runs beside them

@@ -1,5 +1,5 @@
 """Imported by the fork server of a study's local workers before it forks the first worker
-(:func:`railexu.study.execution._pool_context`): loads what every case needs once, so that each
+(:mod:`railexu.fork_server`): loads what every case needs once, so that each
 worker forked from the server starts warm. Importing this module runs a 5 cm simulation of the
 shipped single wheelset (:func:`railexu.study.worker.load_case_needs`); it is meant for that
 process only. A failure is left to the cases to report (the worker then loads what it needs)."""
