@@ -960,7 +960,12 @@ def test_the_fork_server_starts_ahead_of_the_pool():
 
 @pytest.mark.parametrize(
     ("options", "starts"),
-    [(["--workers", "0"], False), (["--workers", "2"], True), ([], True)],
+    [
+        (["--workers", "0"], False),
+        (["--workers", "2"], True),
+        ([], True),
+        (["--scheduler", "tcp://127.0.0.1:1"], False),  # a Dask cluster: no local workers
+    ],
 )
 def test_the_study_command_starts_the_fork_server_only_for_local_workers(
     tmp_path, monkeypatch, options, starts

@@ -162,7 +162,7 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
 
 
 def command(args: argparse.Namespace) -> int:
-    # the checks that need no numerical library first: a wrong name or folder fails at once
+    # the checks that need no numerical library first: a misspelt name fails at once
     from ..catalog import find_input
     from ..report.file_jobs import warm_up_figures
     from ..report.folder import OutputFolder
