@@ -36,9 +36,11 @@ For every vehicle it also prints where the time goes (issue 11's budget):
 - *threads from*: the simulated time from which the wheelsets' contacts ran on threads
   (``railexu.threads``; ``railexu run`` starts them once its warm process has done its imports,
   ``-``: none, as for one wheelset);
-- and, below the table, the integration of the same run as a function call in this process
-  (``railexu.run`` from a script: no warm process, threads from the start) against the same
-  floor.
+- below the table, the EU07's command without figures (``--no-plots``): its overhead is the
+  start-up, the assessment and the data files; the difference to the table's is what the six
+  figures add at the end;
+- and the integration of the same run as a function call in this process (``railexu.run``
+  from a script: no warm process, threads from the start) against the same floor.
 Compare the ratios of one run of this script, not absolute times across machines or days.
 """
 
@@ -134,6 +136,7 @@ def main() -> None:
             f"{'run-state floor':>15s} {'int/run floor':>13s} {'threads from':>12s}"
         )
         floors = {}
+        overheads = {}
         for name in VEHICLES:
             runs = sorted(
                 (run_once(name, Path(tmp) / f"{name}{k}") for k in range(3)), key=lambda r: r[0]
@@ -160,6 +163,18 @@ def main() -> None:
                 f"{run_floor:13.2f} s {integration / run_floor:12.1f}x {since_text:>12s}"
             )
             floors[name] = floor
+            overheads[name] = wall - integration
+        runs = sorted(
+            (run_once("eu07", Path(tmp) / f"no-plots{k}", "--no-plots") for k in range(3)),
+            key=lambda r: r[0],
+        )
+        wall, summary = runs[1]
+        integration = summary["timings_s"]["integration_s"]
+        print(
+            f"eu07 without figures (--no-plots, median of three): {wall:.2f} s whole, "
+            f"{integration:.2f} s integration, {wall - integration:.2f} s overhead; the figures "
+            f"add {overheads['eu07'] - (wall - integration):.2f} s"
+        )
         print("the same runs as function calls in this process (median of three):")
         for name in VEHICLES:
             integration, threads = in_process(name)
