@@ -1004,6 +1004,28 @@ def test_a_studys_workers_run_blas_on_one_thread():
     assert threads == 1 or value != "1"
 
 
+def test_a_studys_workers_inherit_the_preload_frozen():
+    """The fork server freezes what it preloaded (gc.freeze): a worker's collections do not
+    scan those objects again."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from railexu import fork_server
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork server here")
+    with ProcessPoolExecutor(1, mp_context=fork_server.pool_context()) as pool:
+        frozen, enabled = pool.submit(_gc_state).result()
+    assert frozen > 10_000
+    assert enabled  # frozen, not switched off: a case's own garbage is collected
+
+
+def _gc_state() -> tuple[int, bool]:
+    import gc
+
+    return gc.get_freeze_count(), gc.isenabled()
+
+
 def _blas_setting() -> tuple[str, int]:
     """In a worker: OPENBLAS_NUM_THREADS and the number of threads of the process."""
     return os.environ["OPENBLAS_NUM_THREADS"], len(os.listdir("/proc/self/task"))
