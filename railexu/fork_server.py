@@ -12,7 +12,9 @@ Python's one per session; it ends with the session.
 
 ``railexu study`` calls :func:`start` before it imports the study's own modules and reads the
 study file, so that the fork server's preload runs on another core meanwhile (some 0.4 s of a
-study command's start). Only the standard library is imported here.
+study command's start). A command that then fails on its study file ends at once; the fork
+server finishes its preload on the other core (about 1 s), sees that the command is gone and
+ends too. Only the standard library is imported here.
 """
 
 from __future__ import annotations
