@@ -39,8 +39,11 @@ For every vehicle it also prints where the time goes (issue 11's budget):
 - below the table, the EU07's command without figures (``--no-plots``): its overhead is the
   start-up, the assessment and the data files; the difference to the table's is what the six
   figures add at the end;
-- and the integration of the same run as a function call in this process (``railexu.run``
-  from a script: no warm process, threads from the start) against the same floor.
+- the integration of the same run as a function call in this process (``railexu.run``
+  from a script: no warm process, threads from the start) against the same floor;
+- and the floor under the overhead on this machine (``benchmarks/overhead_floor.py``: the
+  libraries' imports, numba's first call, the six figures' axes without data), to read the
+  table's overhead against.
 Compare the ratios of one run of this script, not absolute times across machines or days.
 """
 
@@ -123,6 +126,7 @@ def main() -> None:
         return
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from contact import kernel_seconds_per_wheelset
+    from overhead_floor import report as overhead_floor
 
     simulated = DISTANCE / SPEED
     kernel = {}
@@ -184,6 +188,7 @@ def main() -> None:
             )
         for law, seconds in kernel.items():
             print(f"contact kernel ({law}): {seconds * 1e6:.2f} us per wheelset evaluation")
+    overhead_floor()
 
 
 def in_process(vehicle: str) -> tuple[float, int]:
