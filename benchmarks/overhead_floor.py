@@ -49,8 +49,14 @@ RUN_LIBRARIES = (
     "exudyn",
     "yaml",
 )
-#: as the console script starts (``railexu.console``): the collector paused, BLAS on one thread
-_START = "import railexu.gc_pause, railexu.blas_threads; "
+#: a new process's imports of :data:`RUN_LIBRARIES`, started as the console script starts
+#: (``railexu.console``): the collector paused, then BLAS on one thread
+IMPORT_CODE = (
+    "from railexu import gc_pause\n"
+    "gc_pause.pause()\n"
+    "import railexu.blas_threads\n"
+    "import " + ", ".join(RUN_LIBRARIES) + "\n"
+)
 _FIRST_CALL = """
 import time
 from railexu.contact.hertz import hertz_coefficients_nb, hertz_table
@@ -65,11 +71,10 @@ FIGURE_PROCESSES = 2
 
 def import_seconds(repeat: int = 5) -> float:
     """Wall time of a new process that imports :data:`RUN_LIBRARIES` (median of ``repeat``)."""
-    code = _START + "import " + ", ".join(RUN_LIBRARIES)
     times = []
     for _ in range(repeat):
         t = time.perf_counter()
-        subprocess.run([sys.executable, "-c", code], check=True)
+        subprocess.run([sys.executable, "-c", IMPORT_CODE], check=True)
         times.append(time.perf_counter() - t)
     return statistics.median(times)
 
@@ -77,7 +82,7 @@ def import_seconds(repeat: int = 5) -> float:
 def first_call_seconds(repeat: int = 5) -> float:
     """numba's first call of a cached compiled function in a new process that has imported
     :data:`RUN_LIBRARIES` (median of ``repeat``)."""
-    code = _START + "import " + ", ".join(RUN_LIBRARIES) + "\n" + _FIRST_CALL
+    code = IMPORT_CODE + _FIRST_CALL
     times = []
     for _ in range(repeat):
         done = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)

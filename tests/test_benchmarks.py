@@ -53,5 +53,5 @@ def test_the_overhead_floor_imports_what_a_run_imports(tmp_path):
         "main(['run', 'wheelset', '--distance', '2', '--no-plots', '--quiet', "
         f"'--out', {str(out)!r}])\n"
     )
-    libraries = _loaded_after(floor._START + "import " + ", ".join(floor.RUN_LIBRARIES) + "\n")
+    libraries = _loaded_after(floor.IMPORT_CODE)
     assert run == libraries

@@ -198,6 +198,13 @@ def test_the_front_door_exposes_the_public_functions():
     assert isinstance(result.timeseries, railexu.TimeSeries)
 
 
+def _python(code: str) -> subprocess.CompletedProcess:
+    """``code`` run by a new Python process, which must end with status 0."""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
 def test_importing_railexu_is_cheap():
     """`import railexu` loads neither Exudyn, numba nor matplotlib (the front door is lazy)."""
     code = (
@@ -205,8 +212,7 @@ def test_importing_railexu_is_cheap():
         "heavy = [m for m in ('exudyn', 'numba', 'matplotlib', 'scipy') if m in sys.modules]\n"
         "print(','.join(heavy))\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    done = _python(code)
     assert done.stdout.strip() == ""
 
 
@@ -224,8 +230,7 @@ def test_the_command_line_answers_help_and_bad_names_before_the_numerical_librar
         f"status = main(['run', 'nosuch_vehicle', '--out', {str(tmp_path / 'out')!r}])\n"
         "print(status, [m for m in heavy if m in sys.modules])\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    done = _python(code)
     assert done.stdout.split("\n")[:2] == ["[]", f"{EXIT_INPUT} []"]
     assert "nosuch_vehicle" in done.stderr
     assert not (tmp_path / "out").exists()
@@ -241,8 +246,7 @@ def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
         f"{str(tmp_path / 'out')!r}])\n"
         "print('matplotlib' in sys.modules, 'railexu.study' in sys.modules)\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    done = _python(code)
     assert done.stdout.strip().splitlines()[-1] == "False False"
 
 
@@ -261,8 +265,7 @@ def test_a_run_leaves_the_assessment_and_the_figures_to_its_warm_process(tmp_pat
         f"main(['run', 'wheelset', '--distance', '2', '--quiet', '--out', {str(out)!r}])\n"
         "print('scipy.signal' in sys.modules, 'matplotlib' in sys.modules)\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert done.returncode == 0, done.stderr
+    done = _python(code)
     assert done.stdout.strip().splitlines()[-1] == "False False"
     assert "status: completed" in done.stdout
     summary = json.loads((out / "summary.json").read_text())
