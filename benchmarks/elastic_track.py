@@ -39,9 +39,9 @@ import numpy as np
 
 from railexu.assessment.en14363 import LOWPASS_HZ
 from railexu.assessment.filters import lowpass
-from railexu.runs import RunSettings, run
-from railexu.track import load_track, track_from_dict
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.track.track import load_track, track_from_dict
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.80665
@@ -59,7 +59,7 @@ def _track(kind: str, name: str, changes: dict):
         return track
     from dataclasses import replace
 
-    from railexu.track_model import ElasticTrack
+    from railexu.track.elastic import ElasticTrack
 
     return replace(track, elastic=replace(ElasticTrack(), **changes))
 

@@ -52,9 +52,9 @@ RUN_LIBRARIES = (
 #: a new process's imports of :data:`RUN_LIBRARIES`, started as the console script starts
 #: (``railexu.console``): the collector paused, then BLAS on one thread
 IMPORT_CODE = (
-    "from railexu import gc_pause\n"
+    "from railexu.runtime import gc_pause\n"
     "gc_pause.pause()\n"
-    "import railexu.blas_threads\n"
+    "import railexu.runtime.blas_threads\n"
     "import " + ", ".join(RUN_LIBRARIES) + "\n"
 )
 _FIRST_CALL = """
@@ -110,7 +110,7 @@ def figure_seconds(repeat: int = 3) -> tuple[float, float]:
                 total = 0.0
                 for name in names:
                     gc.collect()
-                    gc.disable()  # as in the command's figure processes (railexu.gc_pause)
+                    gc.disable()  # as in the command's figure processes (railexu.runtime.gc_pause)
                     start = time.process_time()
                     fig = run_figures(ts, summary, "EU07", names=[name])[name]
                     if empty:

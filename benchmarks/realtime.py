@@ -34,8 +34,8 @@ For every vehicle it also prints where the time goes (issue 11's budget):
   compiled forces and the call itself), and the integration divided by it: what the solver
   adds around the force evaluations (the extra residual per step, Jacobians, the recorder);
 - *threads from*: the simulated time from which the wheelsets' contacts ran on threads
-  (``railexu.threads``; ``railexu run`` starts them once its warm process has done its imports,
-  ``-``: none, as for one wheelset);
+  (``railexu.runtime.threads``; ``railexu run`` starts them once its warm process has done its
+  imports, ``-``: none, as for one wheelset);
 - below the table, the EU07's command without figures (``--no-plots``): its overhead is the
   start-up, the assessment and the data files; the difference to the table's is what the six
   figures add at the end;
@@ -107,7 +107,7 @@ def curve_case() -> None:
 
 
 def _creep_law(vehicle: str) -> str:
-    from railexu.vehicle import load_vehicle
+    from railexu.vehicle.vehicle import load_vehicle
 
     return load_vehicle(ROOT / "vehicles" / f"{vehicle}.yaml").contact.creep_model
 
@@ -207,7 +207,7 @@ def in_process(vehicle: str) -> tuple[float, int]:
 
 
 def _wheelsets(vehicle: str) -> int:
-    from railexu.vehicle import load_vehicle
+    from railexu.vehicle.vehicle import load_vehicle
 
     return len(load_vehicle(ROOT / "vehicles" / f"{vehicle}.yaml").wheelsets)
 

@@ -9,7 +9,8 @@ The study: the seed scenario (the EU07 from a 2 mm offset on 150 m of ideal stra
 - the same study on 2 local worker processes (started for the study: their start-up, imports and
   kernel loading are in the time), and the speed-up (issue 11's budget: at least 1.8x on 2
   cores);
-- the 16 runs one by one with the contacts on threads (``railexu.threads``, the default outside
+- the 16 runs one by one with the contacts on threads (``railexu.runtime.threads``, the default
+outside
   a study), against which 2 workers gain less: one run then already uses part of the second
   core;
 - the median time of a case inside the workers against the same case as function calls in this
@@ -99,7 +100,7 @@ def main() -> None:
         t0 = time.perf_counter()
         run_study(study, Path(tmp) / "one_by_one_threads", workers=0)
         serial_threads = time.perf_counter() - t0
-        # a study's workers run the contacts on one thread (railexu.threads): the scaling is
+        # a study's workers run the contacts on one thread (railexu.runtime.threads): the scaling is
         # measured against the same runs on one thread
         os.environ[threads.ENV] = "1"
         t0 = time.perf_counter()

@@ -4,9 +4,9 @@ the dynamics calls it (``docs/suspension.md``).
 For each element type the EU07 gets 8 such elements (mirrored pairs at both bogies and both
 ends); printed per element:
 
-- the compiled force (:func:`railexu.suspension_forces.suspension_forces` over the model's
+- the compiled force (:func:`railexu.model.suspension_forces.suspension_forces` over the model's
   kernel rows, called in a compiled loop, as inside ``generalized_forces``);
-- its finite-difference Jacobian (:func:`railexu.suspension_forces.suspension_jacobian`);
+- its finite-difference Jacobian (:func:`railexu.model.suspension_forces.suspension_jacobian`);
 - for scale, one evaluation of the whole compiled force function of the EU07 (4 wheelsets'
   contacts).
 
@@ -24,11 +24,11 @@ import time
 import numba
 import numpy as np
 
-from railexu.forces import generalized_forces
-from railexu.model import VehicleModel
-from railexu.suspension_forces import suspension_forces, suspension_jacobian
-from railexu.track import ideal_straight_track
-from railexu.vehicle import load_vehicle, vehicle_from_dict
+from railexu.model.assembly import VehicleModel
+from railexu.model.forces import generalized_forces
+from railexu.model.suspension_forces import suspension_forces, suspension_jacobian
+from railexu.track.track import ideal_straight_track
+from railexu.vehicle.vehicle import load_vehicle, vehicle_from_dict
 
 BOGIES = (("bogie_1", 3.95), ("bogie_2", -3.95))
 

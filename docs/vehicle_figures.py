@@ -14,7 +14,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from railexu.timeseries import TimeSeries
+from railexu.simulation.timeseries import TimeSeries
 
 VEHICLES = {
     "hbbins_empty": "Hbbins empty",

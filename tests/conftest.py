@@ -13,8 +13,8 @@ import pytest
 def forking(monkeypatch):
     """Let this process fork as a command's process would. A test that ran before may have left
     a thread here (Dask's offload thread, after the distributed study's tests), and
-    :func:`railexu.warm_process.can_fork` refuses to fork a process with threads; that thread
-    is idle and the children these tests fork run only railexu's code."""
+    :func:`railexu.runtime.warm_process.can_fork` refuses to fork a process with threads; that
+    thread is idle and the children these tests fork run only railexu's code."""
     import threading
 
     if (

@@ -1,4 +1,4 @@
-"""Track design geometry (railexu.alignment) against closed-form geometry: circle, clothoid
+"""Track design geometry (railexu.track.alignment) against closed-form geometry: circle, clothoid
 (Fresnel's integrals), continuity, heading changes, file parsing errors."""
 
 from __future__ import annotations
@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from scipy.special import fresnel
 
-from railexu.alignment import (
+from railexu.errors import InputError
+from railexu.inputs import parse_yaml
+from railexu.track.alignment import (
     TAB_KAPPA,
     TAB_PSI,
     TAB_X,
@@ -17,8 +19,6 @@ from railexu.alignment import (
     alignment_from_dict,
     alignment_from_sections,
 )
-from railexu.errors import InputError
-from railexu.inputs import parse_yaml
 
 
 def _sections(*items):

@@ -41,8 +41,8 @@ from railexu.report.state_file import (
     track_force,
     wheel_points,
 )
-from railexu.runs import RunSettings, run
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 

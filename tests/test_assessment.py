@@ -320,9 +320,9 @@ def test_eu07_on_irregular_track_at_20_m_per_s_is_not_hunting():
     say it is not."""
     from pathlib import Path
 
-    from railexu.runs import RunSettings, run
-    from railexu.track import load_track
-    from railexu.vehicle import load_vehicle
+    from railexu.results.run import RunSettings, run
+    from railexu.track.track import load_track
+    from railexu.vehicle.vehicle import load_vehicle
 
     root = Path(__file__).resolve().parents[1]
     vehicle = load_vehicle(root / "vehicles" / "eu07.yaml")

@@ -20,10 +20,10 @@ from hypothesis import strategies as st
 
 from railexu.errors import InputError
 from railexu.inputs import apply_overrides, load_yaml, parse_yaml
-from railexu.run_settings import RunSettings, RunSettingsError, run_settings_from_dict
+from railexu.operation.run_settings import RunSettings, RunSettingsError, run_settings_from_dict
 from railexu.study.spec import load_study
-from railexu.track import load_track, track_from_dict
-from railexu.vehicle import load_vehicle, vehicle_from_dict
+from railexu.track.track import load_track, track_from_dict
+from railexu.vehicle.vehicle import load_vehicle, vehicle_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 CORPUS = Path(__file__).parent / "data" / "bad_inputs"

@@ -42,7 +42,7 @@ def test_the_overhead_floor_imports_what_a_run_imports(tmp_path):
     """benchmarks/overhead_floor.py times a process that imports RUN_LIBRARIES as the floor of
     the run's imports: a run's process (without figures, which its warm process draws) loads
     exactly the same third-party packages and SciPy sub-packages, no more and no fewer."""
-    from railexu.warm_process import can_fork
+    from railexu.runtime.warm_process import can_fork
 
     if not can_fork():
         pytest.skip("no warm process here: the run's process also imports the assessment's")

@@ -8,7 +8,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from railexu.forces import BS_C, BS_CLEAR, BS_D0, BS_DIR, BS_K, BS_NREAL, BS_P0, BS_P1, _bump_stop
+from railexu.model.forces import (
+    BS_C,
+    BS_CLEAR,
+    BS_D0,
+    BS_DIR,
+    BS_K,
+    BS_NREAL,
+    BS_P0,
+    BS_P1,
+    _bump_stop,
+)
 
 K_N_PER_M = 2.0e6
 C_N_S_PER_M = 1.0e4

@@ -252,9 +252,9 @@ def test_a_run_without_plots_does_not_import_matplotlib(tmp_path):
 
 def test_a_run_leaves_the_assessment_and_the_figures_to_its_warm_process(tmp_path):
     """`railexu run` with figures: the warm process started before the run imports scipy.signal
-    and matplotlib while the run integrates, and assesses and draws (railexu.warm_process);
+    and matplotlib while the run integrates, and assesses and draws (railexu.runtime.warm_process);
     the run's own process imports neither, and every file is there."""
-    from railexu.warm_process import can_fork
+    from railexu.runtime.warm_process import can_fork
 
     if not can_fork():
         pytest.skip("no warm process here: the run's process assesses and draws itself")

@@ -171,7 +171,7 @@ def test_the_console_script_pauses_garbage_collection_only_for_the_start_up(tmp_
     out = tmp_path / "run"
     code = (
         "import gc, sys\n"
-        "import railexu.runs as runs\n"
+        "import railexu.results.run as runs\n"
         "seen = {}\n"
         "real_run = runs.run\n"
         "def spy(*args, **kwargs):\n"

@@ -1,4 +1,4 @@
-"""railexu.compiled_cache: numba's cache files are deleted when a compiled module's source
+"""railexu.runtime.compiled_cache: numba's cache files are deleted when a compiled module's source
 changes (numba itself checks only the loaded function's own file, so a caller could keep an
 inlined callee's old code), and kept otherwise."""
 
@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import os
 
-from railexu import compiled_cache
+from railexu.runtime import compiled_cache
 
 
 def _package(tmp_path):
@@ -48,7 +48,7 @@ def test_the_cache_is_cleared_when_a_source_changes_and_kept_otherwise(tmp_path,
 
 
 def test_every_module_with_cached_compiled_code_is_listed():
-    root = compiled_cache.Path(compiled_cache.__file__).parent
+    root = compiled_cache.Path(compiled_cache.__file__).parents[1]  # the package
     found = {
         str(p.relative_to(root))
         for p in root.rglob("*.py")
@@ -56,3 +56,21 @@ def test_every_module_with_cached_compiled_code_is_listed():
         and ('"cache": True' in p.read_text() or "cache=True" in p.read_text())
     }
     assert found == set(compiled_cache.COMPILED_SOURCES)
+
+
+def test_a_compilation_of_railexu_code_is_announced_once(capsys):
+    """The first run compiles for about two minutes: one line says so before it starts (numba's
+    compile event fires on a cache miss only), and only for railexu's own functions."""
+    import numba
+
+    compiled_cache.announce_compilation()
+    compiled_cache._announcer.printed = False  # an earlier test may have compiled already
+    outside = numba.njit(lambda x: x + 2)
+    outside(1)
+    assert compiled_cache.COMPILING_NOTE not in capsys.readouterr().err
+    namespace = {"__name__": "railexu._compilation_probe"}
+    exec("def probe(x):\n    return x + 1\n", namespace)
+    probe = numba.njit(namespace["probe"])
+    probe(1)
+    probe(2.5)  # a second compilation in the same process: no second line
+    assert capsys.readouterr().err.count(compiled_cache.COMPILING_NOTE) == 1

@@ -15,9 +15,9 @@ from pathlib import Path
 import pytest
 
 from railexu.contact.evaluation import WheelsetContactModel
-from railexu.model import wheelset_geometry
-from railexu.track import load_track
-from railexu.vehicle import load_vehicle
+from railexu.model.assembly import wheelset_geometry
+from railexu.track.track import load_track
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 

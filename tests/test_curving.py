@@ -14,10 +14,10 @@ import pytest
 from railexu.contact.conicity import equivalent_conicity
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.placement import symmetric_wheelset
-from railexu.runs import RunSettings, run
-from railexu.simulation import COMPLETED_STATES
-from railexu.track import load_track, track_from_dict
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.simulation.simulate import COMPLETED_STATES
+from railexu.track.track import load_track, track_from_dict
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.81
@@ -262,8 +262,8 @@ def test_curved_track_formulation_reduces_to_straight_track():
     """The curved-track path of the compiled forces (vehicle frame, projection onto the centre
     line, local track frame) on a track without curvature and cant gives the forces and the
     Jacobian of the straight-track path, for random states around the initial one."""
-    from railexu.forces import generalized_forces, jacobian
-    from railexu.model import VehicleModel
+    from railexu.model.assembly import VehicleModel
+    from railexu.model.forces import generalized_forces, jacobian
 
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml")
     track = track_from_dict({"format_version": 1, "name": "straight"})

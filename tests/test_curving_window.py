@@ -9,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from railexu.runs import RunSettings, run
-from railexu.simulation import COMPLETED_STATES
-from railexu.track import load_track
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.simulation.simulate import COMPLETED_STATES
+from railexu.track.track import load_track
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 

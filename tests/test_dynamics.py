@@ -13,10 +13,10 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.placement import symmetric_wheelset
 from railexu.report.run_files import write_run
 from railexu.results import zero_crossing_wavelength
-from railexu.runs import RunSettings, run
-from railexu.simulation import COMPLETED_STATES
-from railexu.track import Track
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.simulation.simulate import COMPLETED_STATES
+from railexu.track.track import Track
+from railexu.vehicle.vehicle import load_vehicle
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 CONE = 0.05

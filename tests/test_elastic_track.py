@@ -10,10 +10,10 @@ import pytest
 import yaml
 
 from railexu.errors import InputError
-from railexu.runs import RunSettings, run
-from railexu.track import track_from_dict
-from railexu.track_model import ElasticTrack, track_model_from_dict
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.track.elastic import ElasticTrack, track_model_from_dict
+from railexu.track.track import track_from_dict
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parent / "data"
@@ -146,7 +146,7 @@ def test_a_step_too_large_for_the_rail_masses_contact_mode_is_warned():
     some hundreds of Hz; a step that does not resolve it (omega h > 1) makes the force peaks
     step-dependent, so the run warns, naming the key. The mode's frequency goes as
     1/sqrt(mass) (exactly: the springs do not depend on it)."""
-    from railexu.preflight import check_time_step_for_track, rail_contact_mode_rad_per_s
+    from railexu.simulation.preflight import check_time_step_for_track, rail_contact_mode_rad_per_s
 
     vehicle = load_vehicle(ROOT / "vehicles" / "wheelset.yaml")
     rigid = track_from_dict({"format_version": 1, "name": "rigid"})

@@ -10,7 +10,7 @@ from functools import partial
 import pytest
 
 from railexu.report.file_jobs import FileJob, _split, warm_up_figures, write_jobs
-from railexu.warm_process import WarmProcess
+from railexu.runtime.warm_process import WarmProcess
 
 
 def _writer(path, fail_outside_pid=None):

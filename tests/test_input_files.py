@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from railexu.inputs import InputError, apply_overrides, parse_yaml
-from railexu.statics import static_equilibrium
-from railexu.track import load_track
+from railexu.model.statics import static_equilibrium
+from railexu.track.track import load_track
 from railexu.units import UnitError, to_si
-from railexu.vehicle import BumpStop, SpringDamper, TorsionSpring, load_vehicle
+from railexu.vehicle.vehicle import BumpStop, SpringDamper, TorsionSpring, load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 VEHICLES = ROOT / "vehicles"
@@ -225,7 +225,7 @@ def test_derived_quantities_of_the_eu07():
         {f"ws{i}": 2 * 8e6 * 1.05**2 for i in range(1, 5)}, rel=1e-12
     )
     assert eu07.wheelbases_m == pytest.approx({"bogie_1": 3.0, "bogie_2": 3.0}, abs=1e-12)
-    from railexu.statics import static_axle_loads_N
+    from railexu.model.statics import static_axle_loads_N
 
     # 80 t on four axles: 196.2 kN each (force balance of the statics, 1e-6 relative)
     loads = static_axle_loads_N(eu07)
@@ -254,7 +254,7 @@ def test_asymmetric_wheelset_per_side():
     text = text.replace("wheel_profile: S1002", "wheel_profile: {left: S1002, right: S1002}")
     text = text.replace("nominal_radius: 0.625 m", "nominal_radius: {left: 625 mm, right: 0.62}")
     data, lines = parse_yaml(text)
-    from railexu.vehicle import vehicle_from_dict
+    from railexu.vehicle.vehicle import vehicle_from_dict
 
     ws = vehicle_from_dict(data, "w.yaml", lines, VEHICLES).wheelsets[0]
     assert (ws.nominal_radius_m, ws.radius_right_m) == (0.625, 0.62)
@@ -287,7 +287,7 @@ wheelsets:
         """  creep: {model: polach_2005, k_a: 0.5, k_s: 0.2, A: 0.3, B: 0.1 s/m}
   normal_damping: {model: linear, coefficient: 20 kN s/m}""",
     )
-    from railexu.vehicle import vehicle_from_dict
+    from railexu.vehicle.vehicle import vehicle_from_dict
 
     one, two = (vehicle_from_dict(*parse_yaml(t)).contact for t in (v1, v2))
     assert one == two
@@ -298,7 +298,7 @@ wheelsets:
 
 def test_topology_errors_point_at_the_key():
     bogie = (VEHICLES / "eu07_bogie.yaml").read_text()
-    from railexu.vehicle import vehicle_from_dict
+    from railexu.vehicle.vehicle import vehicle_from_dict
 
     def error(text: str) -> str:
         with pytest.raises(InputError) as info:
@@ -322,8 +322,8 @@ def test_topology_errors_point_at_the_key():
 
 def test_box_half_sizes_recover_a_box():
     """The extent estimate inverts I = m (a^2 + b^2) / 12 exactly for a homogeneous box."""
-    from railexu.vehicle import Body
-    from railexu.vehicle_checks import box_half_sizes_m
+    from railexu.vehicle.checks import box_half_sizes_m
+    from railexu.vehicle.vehicle import Body
 
     m, (length, w, h) = 1000.0, (15.0, 3.0, 2.5)
     inertia = (m * (w**2 + h**2) / 12, m * (length**2 + h**2) / 12, m * (length**2 + w**2) / 12)
@@ -338,8 +338,8 @@ def test_different_wheels_left_and_right_reach_the_model_geometry():
     from railexu.contact.conicity import equilibrium_lateral
     from railexu.contact.evaluation import WheelsetContactModel
     from railexu.contact.quasistatic import rolling_radius_difference
-    from railexu.model import wheelset_geometry
-    from railexu.track import ideal_straight_track
+    from railexu.model.assembly import wheelset_geometry
+    from railexu.track.track import ideal_straight_track
 
     vehicle = load_vehicle("wheelset", ["wheelsets.ws1.nominal_radius={left: 0.625, right: 0.624}"])
     ws = vehicle.wheelsets[0]

@@ -1,4 +1,5 @@
-"""Tests for railexu.irregularities: spectra, sum-of-cosines synthesis, measured CSV, rail offsets.
+"""Tests for railexu.track.irregularities: spectra, sum-of-cosines synthesis, measured CSV, rail
+offsets.
 
 Statistical tolerances are derived in the tests that use them; deterministic identities are
 tested tightly.
@@ -13,8 +14,8 @@ import numpy as np
 import pytest
 from scipy.integrate import trapezoid
 
-from railexu import irregularities as ir
-from railexu.irregularities import (
+from railexu.track import irregularities as ir
+from railexu.track.irregularities import (
     COMPONENTS,
     IrregularityError,
     IrregularityProfile,
@@ -571,12 +572,12 @@ def test_errors_are_input_errors_and_huge_records_are_refused_before_allocation(
 
 
 def test_package_split_keeps_the_public_names():
-    import railexu.irregularities as pkg
+    import railexu.track.irregularities as pkg
 
     for name in pkg.__all__:
         assert hasattr(pkg, name), name
-    assert pkg.synthesize_irregularities.__module__ == "railexu.irregularities.synthesis"
-    assert pkg.IrregularityProfile.__module__ == "railexu.irregularities.profile"
+    assert pkg.synthesize_irregularities.__module__ == "railexu.track.irregularities.synthesis"
+    assert pkg.IrregularityProfile.__module__ == "railexu.track.irregularities.profile"
 
 
 @pytest.mark.parametrize(("n", "m"), [(256, 4096), (1000, 1000), (5000, 300), (7, 1)])
@@ -585,7 +586,7 @@ def test_chirp_z_equals_scipy_signal_czt_to_the_last_bit(n, m):
     operations: the same values exactly, not just within round-off."""
     from scipy import signal as sp_signal
 
-    from railexu.irregularities.synthesis import chirp_z
+    from railexu.track.irregularities.synthesis import chirp_z
 
     rng = np.random.default_rng(n + m)
     x = rng.normal(size=n) + 1j * rng.normal(size=n)

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
-from railexu.forces import generalized_forces
-from railexu.model import VehicleModel
-from railexu.track import ideal_straight_track
-from railexu.vehicle import load_vehicle
+from railexu.model.assembly import VehicleModel
+from railexu.model.forces import generalized_forces
+from railexu.track.track import ideal_straight_track
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -48,7 +48,7 @@ def test_the_search_stays_within_the_work_array_its_caller_gives():
     written, and the candidates are those of ``find_contact_candidates``, which sizes its own."""
     from railexu.contact import kernel as K
     from railexu.contact.evaluation import WheelsetContactModel
-    from railexu.model import wheelset_geometry
+    from railexu.model.assembly import wheelset_geometry
 
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
     model = WheelsetContactModel(wheelset_geometry(vehicle.wheelsets[0], ideal_straight_track()))
@@ -81,8 +81,8 @@ def test_the_hot_compiled_functions_run_without_reference_counting():
     of an array, 40 % of the seed run's integration before: docs/performance.md). If a numba
     release drops the option this test fails, to tell that the kernel became slower (its
     results stay the same)."""
-    from railexu import forces
     from railexu.contact import kernel as K
+    from railexu.model import forces
 
     assert K.JIT_NO_REFCOUNT.get("_nrt") is False, "this numba cannot compile without NRT"
     hot = [K._candidates, K._refine, K._golden, K._refine_minimum, K._scan_edge_cell,

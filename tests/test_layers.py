@@ -1,15 +1,16 @@
 """railexu's layers import only downward, and no modules import each other in a circle.
 
-The layers, lowest first (the package docstring, ``railexu/__init__.py``, explains them):
+The folders of ``src/railexu`` are the layers, lowest first (``docs/architecture.md``):
 
-    errors, units -> inputs -> profiles -> contact -> track, vehicle, run settings -> model
-    -> simulation -> analysis (results, stability, assessment, curving) -> report (figures and
-    file writers) -> study -> cli
+    errors, units, runtime -> inputs -> profiles -> contact -> track, vehicle, operation -> model
+    -> simulation -> analysis (results, assessment, stability) -> report (figures and file
+    writers) -> study -> cli
 
-A module may import its own layer and the layers below. Imports inside functions count too (a
-lazy upward import is still an upward dependency); imports under ``if TYPE_CHECKING:`` do not
-(they exist for type checkers only). The check reads the source with :mod:`ast`,
-so it needs no import of the package and runs in a fraction of a second.
+A module may import its own layer and the layers below. Every import counts: those inside
+functions (a lazy upward import is still an upward dependency) and those under
+``if TYPE_CHECKING:`` (a type that two modules need from each other lives in the wrong module).
+The check reads the source with :mod:`ast`, so it needs no import of the package and runs in a
+fraction of a second.
 """
 
 from __future__ import annotations
@@ -19,62 +20,42 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "railexu"
+PACKAGE = Path(__file__).resolve().parents[1] / "src" / "railexu"
 
-# module prefix -> layer (longest prefix wins); every module of the package must be covered
+# module prefix -> layer (longest prefix wins); every module of the package must be covered.
+# The folders are the layers: a module's folder says where it stands.
 LAYERS: dict[str, int] = {
     "railexu.errors": 0,
     "railexu.units": 0,
     "railexu.version": 0,
     "railexu.jsonable": 0,
+    # the process: the standard library only (threads imports numba when the first model is
+    # built), so that these can run before numpy loads
+    "railexu.runtime": 0,
     "railexu.inputs": 1,
-    "railexu.schema": 10,  # renders the docs of every input, the study's too: beside the cli
-    "railexu.catalog": 1,
     "railexu.profiles": 2,
     "railexu.contact": 3,
     "railexu.track": 4,
-    "railexu.irregularities": 4,
-    "railexu.alignment": 4,
     "railexu.vehicle": 4,
-    "railexu.vehicle_schema": 4,
-    "railexu.vehicle_checks": 4,
-    "railexu.track_schema": 4,
-    "railexu.run_settings": 4,
-    "railexu.speed_profile": 4,
-    "railexu.traction": 4,
-    "railexu.longitudinal": 6,
+    "railexu.operation": 4,
     "railexu.model": 5,
-    "railexu.forces": 5,
-    "railexu.body_points": 5,
-    "railexu.statics": 5,
-    "railexu.suspension_forces": 5,
-    "railexu.track_model": 4,
-    "railexu.timeseries": 6,
-    "railexu.curving": 6,
     "railexu.simulation": 6,
-    "railexu.recorder": 6,
-    "railexu.compiled_cache": 0,
-    "railexu.warm_process": 0,  # the standard library only: a process that runs calls
-    "railexu.threads": 0,  # numba, imported when the first model is built
-    "railexu.blas_threads": 0,  # sets OPENBLAS_NUM_THREADS before numpy loads
-    "railexu.gc_pause": 0,  # the console script's start-up without cyclic collection
-    "railexu.fork_server": 0,  # the standard library only: a study's workers' fork server
-    "railexu.record_row": 5,
-    "railexu.preflight": 6,
     "railexu.results": 7,
     "railexu.stability": 7,
     "railexu.assessment": 7,
-    "railexu.runs": 7,
     "railexu.report": 8,
     "railexu.study": 9,
     "railexu.cli": 10,
+    "railexu.schema": 10,  # renders the docs of every input, the study's too: beside the cli
     "railexu.console": 10,  # the console script: start-up settings, then railexu.cli
-    "railexu": 11,  # the front door (railexu/__init__.py) re-exports from every layer
+    "railexu": 11,  # the front door (src/railexu/__init__.py) re-exports from every layer
 }
 LAYER_NAMES = [
-    "errors/units", "inputs", "profiles", "contact", "track/vehicle", "model", "simulation",
-    "analysis", "report", "study", "cli", "front door",
+    "base/runtime", "inputs", "profiles", "contact", "track/vehicle/operation", "model",
+    "simulation", "analysis", "report", "study", "cli", "front door",
 ]  # fmt: skip
+#: at most this many modules at the package's top level (the front door, errors, units, ...)
+MAX_TOP_LEVEL_MODULES = 10
 
 
 def module_name(path: Path) -> str:
@@ -89,8 +70,9 @@ def layer_of(module: str) -> int:
     return LAYERS[best]
 
 
-def imports_of(path: Path) -> set[str]:
-    """Every railexu module that ``path`` imports (top level, in functions, type-only)."""
+def imports_of(path: Path, type_only_too: bool = False) -> set[str]:
+    """Every railexu module that ``path`` imports at run time (top level and in functions), and
+    with ``type_only_too`` also those under ``if TYPE_CHECKING:``."""
     module = module_name(path)
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
     found: set[str] = set()
@@ -99,7 +81,9 @@ def imports_of(path: Path) -> set[str]:
     type_only = {
         id(n)
         for node in ast.walk(tree)
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+        if not type_only_too
+        and isinstance(node, ast.If)
+        and "TYPE_CHECKING" in ast.unparse(node.test)
         for stmt in node.body
         for n in ast.walk(stmt)
     }
@@ -131,8 +115,22 @@ def _exists(module: str) -> bool:
     return (PACKAGE / rel).with_suffix(".py").is_file() or (PACKAGE / rel / "__init__.py").is_file()
 
 
-def graph() -> dict[str, set[str]]:
-    return {module_name(p): imports_of(p) for p in sorted(PACKAGE.rglob("*.py"))}
+def package_files() -> list[Path]:
+    """The package's modules (not the shipped inputs linked into it)."""
+    linked = {"vehicles", "tracks", "studies"}
+    return [
+        p for p in sorted(PACKAGE.rglob("*.py")) if not linked & set(p.relative_to(PACKAGE).parts)
+    ]
+
+
+def graph(type_only_too: bool = False) -> dict[str, set[str]]:
+    return {module_name(p): imports_of(p, type_only_too) for p in package_files()}
+
+
+def test_the_package_top_level_holds_few_modules():
+    """The folders are the layers; the top level keeps only the front door and its like."""
+    top = sorted(p.name for p in PACKAGE.glob("*.py"))
+    assert len(top) <= MAX_TOP_LEVEL_MODULES, top
 
 
 def test_every_module_has_a_layer():
@@ -142,7 +140,7 @@ def test_every_module_has_a_layer():
 
 def test_imports_only_go_downward():
     upward = []
-    for module, targets in graph().items():
+    for module, targets in graph(type_only_too=True).items():
         for target in sorted(targets):
             if layer_of(target) > layer_of(module):
                 upward.append(
@@ -153,7 +151,10 @@ def test_imports_only_go_downward():
 
 
 def test_no_import_cycles_between_modules():
-    g = graph()
+    """No module imports another that imports it back, directly or through a chain, counting
+    imports inside functions and those for type hints only (a type used by both sides of such a
+    pair lives in the wrong module)."""
+    g = graph(type_only_too=True)
     # package __init__ files re-export their own modules: an edge from a module to its own
     # package's __init__ is what `from . import x` looks like, not a cycle of dependencies
     edges = {m: {t for t in ts if t in g and not m.startswith(t + ".")} for m, ts in g.items()}
@@ -181,7 +182,7 @@ def test_no_import_cycles_between_modules():
 @pytest.mark.parametrize(
     ("module", "forbidden"),
     [
-        ("railexu.vehicle", "numba"),  # vehicle files must not pull in the compiled layer
+        ("railexu.vehicle.vehicle", "numba"),  # vehicle files must not pull in the compiled layer
         ("railexu.inputs", "numba"),
     ],
 )

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from railexu.contact.evaluation import wheel_arrays
-from railexu.model import VehicleModel
-from railexu.track import ideal_straight_track
-from railexu.vehicle import load_vehicle
+from railexu.model.assembly import VehicleModel
+from railexu.track.track import ideal_straight_track
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -38,7 +38,7 @@ def test_wheels_with_one_profile_share_one_table():
 def test_each_wheel_reads_its_own_table(monkeypatch):
     """A wheel whose table differs (here the third wheelset's right wheel, its radius
     increased by 1 um everywhere): two tables, and every wheel reads exactly its own."""
-    import railexu.model as model_module
+    import railexu.model.assembly as model_module
 
     built = []
     original = model_module.wheel_arrays

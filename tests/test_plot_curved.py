@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from railexu.alignment import alignment_from_record
 from railexu.cli import main
-from railexu.track import track_from_dict
+from railexu.track.alignment import alignment_from_record
+from railexu.track.track import track_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 

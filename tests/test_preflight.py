@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 
 from railexu.errors import InputError
-from railexu.preflight import check_initial_offset
-from railexu.run_settings import RunSettings
-from railexu.track import ideal_straight_track
-from railexu.vehicle import load_vehicle
+from railexu.operation.run_settings import RunSettings
+from railexu.simulation.preflight import check_initial_offset
+from railexu.track.track import ideal_straight_track
+from railexu.vehicle.vehicle import load_vehicle
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 

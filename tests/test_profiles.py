@@ -493,7 +493,7 @@ def test_simpack_processing_order(tmp_path):
 
 def test_simpack_approx_smooth_uses_a_smoothing_spline(tmp_path):
     text = (
-        (Path(__file__).resolve().parents[1] / "railexu" / "data" / "profiles")
+        (Path(__file__).resolve().parents[1] / "src" / "railexu" / "data" / "profiles")
         .joinpath("MBench_S1002_v3.prw")
         .read_text()
     )

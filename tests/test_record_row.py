@@ -1,4 +1,4 @@
-"""railexu.record_row: the compiled derailment check against its definition written out with
+"""railexu.model.record_row: the compiled derailment check against its definition written out with
 numpy (rise of each wheel above its static height; lateral displacement from the track centre
 line), for random wheelset poses, with and without irregularities."""
 
@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from railexu.forces import WL_LATERAL, WL_ROLL, WL_S, WL_SIZE, WL_VERTICAL
-from railexu.record_row import ROW_KEPT, ROW_OFF_TRACK, ROW_WHEEL_ROSE, derailment
+from railexu.model.forces import WL_LATERAL, WL_ROLL, WL_S, WL_SIZE, WL_VERTICAL
+from railexu.model.record_row import ROW_KEPT, ROW_OFF_TRACK, ROW_WHEEL_ROSE, derailment
 
 
 def _reference(loc, z0, sin_roll0, e, lift, cx, cy, lateral_limit):

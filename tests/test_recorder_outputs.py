@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from railexu.inputs import load_yaml
-from railexu.runs import RunSettings, run
-from railexu.simulation import CONTACT_FIELDS, point_accelerations
-from railexu.track import load_track
-from railexu.vehicle import vehicle_from_dict
+from railexu.results.run import RunSettings, run
+from railexu.simulation.simulate import CONTACT_FIELDS, point_accelerations
+from railexu.track.track import load_track
+from railexu.vehicle.vehicle import vehicle_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -95,14 +95,14 @@ def test_recorded_contact_state_is_that_of_the_recorded_coordinates():
     every step with the residual of the accepted state: check it by evaluating the compiled
     forces afresh at the recorded state of every output sample, on a curved track (vehicle
     frame in motion) where a stale evaluation would also show in the track-relative pose."""
-    from railexu.simulation import simulate
+    from railexu.simulation.simulate import simulate
 
     data, lines = load_yaml(ROOT / "vehicles" / "eu07_bogie.yaml")
     vehicle = vehicle_from_dict(data, "eu07_bogie.yaml", lines, ROOT / "vehicles")
     track = load_track(ROOT / "tracks" / "curve_r600.yaml")
     settings = RunSettings(speed_m_per_s=15.0, distance_m=6.0, initial_lateral_m=0.002)
     checked = []
-    import railexu.recorder as recorder_module
+    import railexu.simulation.recorder as recorder_module
 
     original = recorder_module.Recorder.record
 

@@ -22,8 +22,8 @@ from railexu.cli import main
 from railexu.report.animate import AnimationSettings, animate_run
 from railexu.report.html_report import write_report
 from railexu.report.run_files import write_run
-from railexu.runs import RunSettings, run
-from railexu.vehicle import load_vehicle
+from railexu.results.run import RunSettings, run
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")

@@ -8,10 +8,10 @@ import pytest
 from railexu import schema as docs_schema
 from railexu.inputs import OPTIONAL, REQUIRED, Field, InputError, Schema, Section
 from railexu.inputs.docs import markdown_table, region_is_current, update_region
-from railexu.run_settings import RUN_SCHEMA, RunSettings
-from railexu.track import Track
-from railexu.track_schema import TRACK
-from railexu.vehicle_schema import CONTACT, VEHICLE, WHEELSET
+from railexu.operation.run_settings import RUN_SCHEMA, RunSettings
+from railexu.track.schema import TRACK
+from railexu.track.track import Track
+from railexu.vehicle.schema import CONTACT, VEHICLE, WHEELSET
 
 SMALL = Schema(
     "small",

@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from railexu.catalog import find_input
 from railexu.errors import InputError
-from railexu.run_settings import RunSettings, run_settings_from_dict
-from railexu.simulation import simulate
-from railexu.speed_profile import SpeedProfile, SpeedProfileError
-from railexu.vehicle import load_vehicle
+from railexu.inputs.catalog import find_input
+from railexu.operation.run_settings import RunSettings, run_settings_from_dict
+from railexu.operation.speed_profile import SpeedProfile, SpeedProfileError
+from railexu.simulation.simulate import simulate
+from railexu.vehicle.vehicle import load_vehicle
 
 
 # -- the profile alone ---------------------------------------------------------------------------
@@ -129,7 +129,7 @@ def eu07_accelerating():
     at the start of every step."""
     import exudyn as exu
 
-    from railexu.model import VehicleModel
+    from railexu.model.assembly import VehicleModel
 
     vehicle = load_vehicle(find_input("vehicle", "eu07"))
     v1 = math.sqrt(10.0**2 + 2.0 * 1.0 * 80.0)
@@ -233,8 +233,8 @@ def test_profile_on_a_curve_moves_the_frame():
     two-point profile at a constant speed takes the profile's code path and must reproduce the
     constant-speed run; an accelerating one moves the frame with its distance, speed and
     acceleration."""
-    from railexu.forces import FR_S, FR_V, FR_VDOT
-    from railexu.track import load_track
+    from railexu.model.forces import FR_S, FR_V, FR_VDOT
+    from railexu.track.track import load_track
 
     track = load_track(find_input("track", "curve_r600"))
     vehicle = load_vehicle(find_input("vehicle", "wheelset"))

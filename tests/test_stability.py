@@ -26,8 +26,8 @@ from railexu.stability import (
     profile_equivalent_conicity,
     ramp_critical_speed,
 )
-from railexu.track import Track
-from railexu.vehicle import load_vehicle
+from railexu.track.track import Track
+from railexu.vehicle.vehicle import load_vehicle
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 CONE = 0.05

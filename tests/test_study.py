@@ -30,7 +30,7 @@ from railexu.study import (
     run_study,
 )
 from railexu.study.plots import plot_study
-from railexu.vehicle import load_vehicle
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 VEHICLES = ROOT / "vehicles"
@@ -929,14 +929,14 @@ def test_local_workers_come_from_a_fork_server_that_preloads_the_cases_needs():
     import importlib.util
     import multiprocessing
 
-    from railexu import fork_server
+    from railexu.runtime import fork_server
 
     ctx = fork_server.pool_context()
     if "forkserver" in multiprocessing.get_all_start_methods():
         assert ctx.get_start_method() == "forkserver"
     else:
         assert ctx.get_start_method() == "spawn"
-    assert fork_server.PRELOAD[0] == "railexu.blas_threads"  # before the preload's numpy
+    assert fork_server.PRELOAD[0] == "railexu.runtime.blas_threads"  # before the preload's numpy
     for name in fork_server.PRELOAD:
         assert importlib.util.find_spec(name) is not None
 
@@ -947,7 +947,7 @@ def test_the_fork_server_starts_ahead_of_the_pool():
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    from railexu import fork_server
+    from railexu.runtime import fork_server
 
     if "forkserver" not in multiprocessing.get_all_start_methods():
         assert fork_server.start() is False
@@ -970,8 +970,8 @@ def test_the_fork_server_starts_ahead_of_the_pool():
 def test_the_study_command_starts_the_fork_server_only_for_local_workers(
     tmp_path, monkeypatch, options, starts
 ):
-    from railexu import fork_server
     from railexu.cli import study as study_cli
+    from railexu.runtime import fork_server
 
     calls = []
     monkeypatch.setattr(fork_server, "start", lambda: calls.append(1) or True)
@@ -988,11 +988,11 @@ def test_the_study_command_starts_the_fork_server_only_for_local_workers(
 
 
 def test_a_studys_workers_run_blas_on_one_thread():
-    """The fork server imports railexu.blas_threads before its preload loads numpy, so the
+    """The fork server imports railexu.runtime.blas_threads before its preload loads numpy, so the
     workers have no BLAS threads busy-waiting beside the other workers' cases."""
     import multiprocessing
 
-    from railexu import fork_server
+    from railexu.runtime import fork_server
 
     if "forkserver" not in multiprocessing.get_all_start_methods():
         pytest.skip("no fork server here (the spawn workers keep the study's setting)")
@@ -1010,7 +1010,7 @@ def test_a_studys_workers_inherit_the_preload_frozen():
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    from railexu import fork_server
+    from railexu.runtime import fork_server
 
     if "forkserver" not in multiprocessing.get_all_start_methods():
         pytest.skip("no fork server here")

@@ -1,6 +1,6 @@
 """The nonlinear suspension elements against analytic solutions (``docs/suspension.md``).
 
-Element-level tests drive the compiled kernel (:mod:`railexu.suspension_forces`) on a rig of
+Element-level tests drive the compiled kernel (:mod:`railexu.model.suspension_forces`) on a rig of
 one moving mass (or an imposed motion) against a fixed ground and integrate its equations with
 scipy's Radau (tight tolerances, so that what remains is the element's own error); vehicle-level
 tests check the statics, the start in equilibrium, and the linearised model (Exudyn's
@@ -18,20 +18,19 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from railexu.errors import InputError
-from railexu.statics import static_equilibrium
-from railexu.suspension_forces import (
+from railexu.model.characteristics import characteristic_table, table_force
+from railexu.model.statics import static_equilibrium
+from railexu.model.suspension_forces import (
     LAW_FRICTION,
     LAW_PLASTIC,
     LAW_TABLE,
     KernelElement,
-    characteristic_table,
     kernel_arrays,
     kernel_elements,
     suspension_forces,
-    table_force,
     table_value,
 )
-from railexu.vehicle import load_vehicle, vehicle_from_dict
+from railexu.vehicle.vehicle import load_vehicle, vehicle_from_dict
 
 AXIS = 2  # the rig moves along z
 
@@ -270,8 +269,8 @@ def test_vehicle_on_nonlinear_and_air_springs_starts_in_equilibrium():
     raw = copy.deepcopy(vehicle.raw)
     raw["suspension"].update(extra)
     vehicle = vehicle_from_dict(raw, "test", base_dir=vehicle.base_dir)
-    from railexu.runs import RunSettings, run
-    from railexu.track import ideal_straight_track
+    from railexu.results.run import RunSettings, run
+    from railexu.track.track import ideal_straight_track
 
     settings = RunSettings(speed_m_per_s=20.0, distance_m=8.0, initial_lateral_m=0.0)
     result = run(vehicle, ideal_straight_track(), settings)
@@ -506,10 +505,10 @@ def test_uic_link_lateral_hysteresis_loop():
 
 # -- in the linearised vehicle ------------------------------------------------------------------
 def _linearised(vehicle, speed=40.0):
-    from railexu.model import VehicleModel
+    from railexu.model.assembly import VehicleModel
     from railexu.stability.linear import linear_model_vehicle
     from railexu.stability.settings import CriticalSpeedSettings
-    from railexu.track import ideal_straight_track
+    from railexu.track.track import ideal_straight_track
 
     lin, track, _ = linear_model_vehicle(vehicle, ideal_straight_track(), CriticalSpeedSettings())
     model = VehicleModel(lin, track, speed, 0.0, 10.0)
@@ -715,8 +714,8 @@ def test_bad_element_values_are_refused_at_their_key(element, key, words):
 def test_uic_link_without_a_vertical_spring_asks_for_its_load():
     """A link where no spring carries a vertical load: the model refuses it and asks for
     ``vertical_load``."""
-    from railexu.model import ModelError, VehicleModel
-    from railexu.track import ideal_straight_track
+    from railexu.model.assembly import ModelError, VehicleModel
+    from railexu.track.track import ideal_straight_track
 
     link = {"type": "uic_link", "bodies": ["car_body", "bogie_1"], "position": [3.0, 0.5, 1.0],
             "pendulum_length": [0.16, 0.2], "friction_coefficient": [0.2, 0.1],

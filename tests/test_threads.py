@@ -1,5 +1,5 @@
-"""The wheelsets' contacts on threads (railexu.threads): the same results to the last bit, and
-threads only where the policy allows them."""
+"""The wheelsets' contacts on threads (railexu.runtime.threads): the same results to the last bit,
+and threads only where the policy allows them."""
 
 from __future__ import annotations
 
@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from railexu import threads
 from railexu.errors import InputError
-from railexu.forces import generalized_forces, generalized_forces_threaded
-from railexu.model import VehicleModel
-from railexu.runs import RunSettings, run
-from railexu.track import ideal_straight_track, load_track, track_from_dict
-from railexu.vehicle import load_vehicle
+from railexu.model.assembly import VehicleModel
+from railexu.model.forces import generalized_forces, generalized_forces_threaded
+from railexu.results.run import RunSettings, run
+from railexu.runtime import threads
+from railexu.track.track import ideal_straight_track, load_track, track_from_dict
+from railexu.vehicle.vehicle import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -75,7 +75,7 @@ def test_a_run_on_threads_gives_the_serial_time_series(monkeypatch):
     threads from the middle of the run (as ``railexu run`` starts them once its warm process has
     done its imports) and without threads; the summary says how many threads the contacts used
     and from when."""
-    from railexu.simulation import simulate
+    from railexu.simulation.simulate import simulate
 
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
     settings = RunSettings(speed_m_per_s=20.0, distance_m=8.0, initial_lateral_m=0.002)
@@ -163,7 +163,7 @@ def test_a_studys_workers_run_the_contacts_on_one_thread(tmp_path):
 def test_forked_children_never_start_threads(forking, monkeypatch):
     """GNU OpenMP cannot start its threads in a process forked from one where they ran: the
     warm process (and the figure writer, forked the same way) are serial from their start."""
-    from railexu.warm_process import WarmProcess
+    from railexu.runtime.warm_process import WarmProcess
 
     monkeypatch.setattr(threads, "_start_threadsafe_layer", lambda: 8)
     monkeypatch.setattr(threads, "usable_cores", lambda: 8)
@@ -175,9 +175,9 @@ def test_forked_children_never_start_threads(forking, monkeypatch):
 
 def test_the_command_runs_blas_on_one_thread_unless_told_otherwise():
     """``railexu.cli`` sets ``OPENBLAS_NUM_THREADS=1`` before numpy loads
-    (:mod:`railexu.blas_threads`: OpenBLAS's idle threads busy-wait on the cores the contacts'
-    threads need; railexu's matrices are small), so the process has no BLAS threads; a value
-    the user set is kept."""
+    (:mod:`railexu.runtime.blas_threads`: OpenBLAS's idle threads busy-wait on the cores the
+    contacts' threads need; railexu's matrices are small), so the process has no BLAS threads; a
+    value the user set is kept."""
     import os
     import subprocess
     import sys

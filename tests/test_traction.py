@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from railexu.catalog import find_input
 from railexu.contact.kalker import kalker_coefficients
 from railexu.contact.parameters import ContactParameters
 from railexu.contact.polach import polach_2005_forces
 from railexu.errors import InputError
-from railexu.run_settings import RunSettings, run_settings_from_dict
-from railexu.simulation import POINT_FIELDS, simulate
-from railexu.traction import Schedule, Traction
-from railexu.vehicle import load_vehicle
+from railexu.inputs.catalog import find_input
+from railexu.operation.run_settings import RunSettings, run_settings_from_dict
+from railexu.operation.traction import Schedule, Traction
+from railexu.simulation.simulate import POINT_FIELDS, simulate
+from railexu.vehicle.vehicle import load_vehicle
 
 #: Polach (2005), Wear 258, dry rail: mu0 and (k_A, k_S, A, B) of the set railexu ships as its
 #: default (railexu.contact.polach.POLACH_2005_PRESETS["dry"]).
@@ -252,7 +252,7 @@ def test_free_motion_on_a_curve_matches_the_prescribed_speed():
     prescribed constant speed: the coordinates relative to the frame mean the same whatever
     the frame's motion, so the quasi-static curving agrees (the speed changes by 0.1 % from
     curving resistance; transients at the curve's ends differ in phase)."""
-    from railexu.track import load_track
+    from railexu.track.track import load_track
 
     track = load_track(find_input("track", "curve_r600"))
     vehicle = load_vehicle(find_input("vehicle", "wheelset"))  # the shipped contact: Polach 1999

@@ -18,9 +18,9 @@ import pytest
 import scipy.linalg
 import yaml
 
-from railexu.catalog import shipped_names
-from railexu.statics import static_equilibrium
-from railexu.vehicle import load_vehicle
+from railexu.inputs.catalog import shipped_names
+from railexu.model.statics import static_equilibrium
+from railexu.vehicle.vehicle import load_vehicle
 
 DATA = yaml.safe_load(
     (Path(__file__).parent / "data" / "shipped_vehicles.yaml").read_text(encoding="utf-8")
@@ -71,8 +71,8 @@ def body_modes_Hz(vehicle) -> dict[str, float]:
     """Bounce and pitch frequencies of the car body from the built model, linearised about its
     rest state (Exudyn's ``ComputeLinearizedSystem``; undamped: ``K v = w^2 M v``): the modes
     with the largest share of their kinetic energy in the body's vertical and pitch motion."""
-    from railexu.model import VehicleModel
-    from railexu.track import ideal_straight_track
+    from railexu.model.assembly import VehicleModel
+    from railexu.track.track import ideal_straight_track
 
     model = VehicleModel(vehicle, ideal_straight_track(), 1.0, 0.0, 10.0)
     M, K, _ = (np.asarray(a) for a in model.mbs.ComputeLinearizedSystem())
@@ -222,7 +222,7 @@ def test_wagon_empty_and_loaded_differ_only_in_body_and_operating_point():
 def test_short_run_on_straight_track(name):
     """10 m at 10 m/s from the seed's 2 mm offset: the run completes, no flange contact, the
     wheel loads stay near their static values."""
-    from railexu.runs import RunSettings, run
+    from railexu.results.run import RunSettings, run
 
     vehicle = load_vehicle(name)
     result = run(vehicle, settings=RunSettings(speed_m_per_s=10.0, distance_m=10.0))

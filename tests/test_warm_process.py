@@ -1,6 +1,6 @@
-"""railexu.warm_process: a call made in the warm process gives what the same call gives here,
-and whatever goes wrong there (an error, a dead process, arguments that cannot be pickled), the
-call is made here instead."""
+"""railexu.runtime.warm_process: a call made in the warm process gives what the same call gives
+here, and whatever goes wrong there (an error, a dead process, arguments that cannot be pickled),
+the call is made here instead."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from railexu.warm_process import WarmProcess
+from railexu.runtime.warm_process import WarmProcess
 
 needs_fork = pytest.mark.usefixtures("forking")  # tests/conftest.py
 

@@ -1,4 +1,4 @@
 """The tracks that ship with railexu, installed as ``railexu.tracks``.
 
-See railexu/catalog.py: ``railexu run NAME`` finds them by name from any folder.
+See src/railexu/inputs/catalog.py: ``railexu run NAME`` finds them by name from any folder.
 """

@@ -1,0 +1,80 @@
+"""Kinematics of points fixed to Exudyn ``NodeRigidBodyRxyz`` nodes, and axial forces on them.
+
+Shared by the compiled force functions of the bump stops (:mod:`railexu.model.forces`) and of the
+nonlinear suspension elements (:mod:`railexu.model.suspension_forces`). A node at coordinate offset
+``o`` has ``(x, y, z, theta0, theta1, theta2)`` with the rotation ``A = Rx(theta0) Ry(theta1)
+Rz(theta2)``; the global angular velocity is ``G(theta) theta_dot`` and a global torque ``M``
+acts on the angles as ``G(theta)^T M`` (``docs/dev/exudyn-api.md``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from railexu.runtime.compiled_cache import refresh
+
+refresh()  # numba's cache follows the current sources (src/railexu/runtime/compiled_cache.py)
+
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+
+
+@numba.njit(inline="always", **_JIT)
+def rotation(t0, t1, t2):
+    """Rotation matrix entries of Rx(t0) Ry(t1) Rz(t2), row-major."""
+    c0, s0 = math.cos(t0), math.sin(t0)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    c2, s2 = math.cos(t2), math.sin(t2)
+    return (
+        c1 * c2, -c1 * s2, s1,
+        c0 * s2 + s0 * s1 * c2, c0 * c2 - s0 * s1 * s2, -s0 * c1,
+        s0 * s2 - c0 * s1 * c2, s0 * c2 + c0 * s1 * s2, c0 * c1,
+    )  # fmt: skip
+
+
+@numba.njit(**_JIT)
+def point_state(o, lx, ly, lz, q, qt, qref, p, v, r):
+    """Position ``p``, velocity ``v`` and lever ``r`` (global) of the body point with local
+    coordinates ``l`` on the node at coordinate offset ``o`` (Tait-Bryan Rxyz angles)."""
+    t0 = qref[o + 3] + q[o + 3]
+    t1 = qref[o + 4] + q[o + 4]
+    a00, a01, a02, a10, a11, a12, a20, a21, a22 = rotation(t0, t1, qref[o + 5] + q[o + 5])
+    c0, s0 = math.cos(t0), math.sin(t0)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    rx = a00 * lx + a01 * ly + a02 * lz
+    ry = a10 * lx + a11 * ly + a12 * lz
+    rz = a20 * lx + a21 * ly + a22 * lz
+    wx = qt[o + 3] + s1 * qt[o + 5]
+    wy = c0 * qt[o + 4] - s0 * c1 * qt[o + 5]
+    wz = s0 * qt[o + 4] + c0 * c1 * qt[o + 5]
+    p[0] = qref[o] + q[o] + rx
+    p[1] = qref[o + 1] + q[o + 1] + ry
+    p[2] = qref[o + 2] + q[o + 2] + rz
+    v[0] = qt[o] + wy * rz - wz * ry
+    v[1] = qt[o + 1] + wz * rx - wx * rz
+    v[2] = qt[o + 2] + wx * ry - wy * rx
+    r[0] = rx
+    r[1] = ry
+    r[2] = rz
+
+
+@numba.njit(**_JIT)
+def apply_axial_force(o, sgn, f, dr, r, q, qref, out):
+    """Add the force ``sgn f`` along axis ``dr`` at lever ``r`` to the node at offset ``o``."""
+    fv0 = sgn * f if dr == 0 else 0.0
+    fv1 = sgn * f if dr == 1 else 0.0
+    fv2 = sgn * f if dr == 2 else 0.0
+    out[o] += fv0
+    out[o + 1] += fv1
+    out[o + 2] += fv2
+    tx = r[1] * fv2 - r[2] * fv1
+    ty = r[2] * fv0 - r[0] * fv2
+    tz = r[0] * fv1 - r[1] * fv0
+    t0 = qref[o + 3] + q[o + 3]
+    t1 = qref[o + 4] + q[o + 4]
+    c0, s0 = math.cos(t0), math.sin(t0)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    out[o + 3] += tx
+    out[o + 4] += c0 * ty + s0 * tz
+    out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz

@@ -1,0 +1,215 @@
+"""Output folders: checked before the work starts, locked while written, files replaced atomically.
+
+Every job that writes a folder (``railexu run``, ``contact``, ``critical-speed``, ``study``) goes
+through :class:`OutputFolder`:
+
+- :meth:`OutputFolder.prepare` is called *before* the computation: a path that is a file, lies
+  inside a file or cannot be written is an input error found in a second, not after an hour of
+  simulation;
+- the folder is locked (POSIX ``flock``; released by the operating system if the process dies),
+  so two processes writing the same folder at once get a clear error instead of a mixture;
+- each file is written under a temporary name and renamed into place (:func:`atomic_path`), so a
+  reader never sees half a file;
+- a manifest (``.railexu-files.json``) lists the files the last job wrote; the next job into the
+  same folder removes those it does not write again (no plots of an older run beside new data),
+  and a folder that holds another kind of output (a study's folder given to ``railexu run``) is
+  refused.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+from railexu.errors import InputError
+
+MANIFEST = ".railexu-files.json"
+LOCK_FILE = ".railexu.lock"
+# files that mark the output of each kind of job, to refuse writing one kind over another
+_MARKERS = {
+    "run": ("summary.json", "timeseries.csv"),
+    "contact": ("contact.csv",),
+    "critical_speed": ("critical_speed.json",),
+    "study": ("study.json", "results.csv"),
+}
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; on success rename it to ``path`` (atomic on
+    POSIX and Windows), on failure remove it."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
+
+
+def check_writable_folder(path: str | Path, what: str = "--out") -> Path:
+    """Create ``path`` (with its parents) if needed and check that files can be written in it.
+
+    Raises:
+        InputError: the path is a file, lies below a file, or is not writable.
+    """
+    out = Path(path)
+    for parent in (out, *out.parents):
+        if parent.exists() and not parent.is_dir():
+            where = "is a file" if parent == out else f"lies inside the file {parent}"
+            raise InputError(f"{out} {where}; an output folder was expected", key=what)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / f".railexu-write-test.{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise InputError(f"cannot write into {out}: {exc.strerror or exc}", key=what) from None
+    return out
+
+
+class OutputFolder:
+    """An output folder of one job (``kind``: run, contact, critical_speed, study).
+
+    Use as a context manager around the whole job::
+
+        with OutputFolder(out, "run") as folder:   # checked and locked before the work
+            result = run(...)
+            folder.write_text("summary.json", text)
+        # the files of an older job that were not written again are removed
+
+    Raises:
+        InputError: not writable, locked by another process, or holding another kind of output.
+    """
+
+    def __init__(self, path: str | Path, kind: str, option: str = "--out") -> None:
+        if kind not in _MARKERS:
+            raise ValueError(f"kind must be one of {tuple(_MARKERS)}")
+        self.path = Path(path)
+        self.kind = kind
+        self.option = option
+        self.written: list[Path] = []
+        self._lock = None
+
+    def prepare(self) -> OutputFolder:
+        """Check, create and lock the folder; refuse one that holds another kind of output."""
+        check_writable_folder(self.path, self.option)
+        self._refuse_other_kinds()
+        self._lock = _lock(self.path)
+        return self
+
+    def __enter__(self) -> OutputFolder:
+        return self.prepare() if self._lock is None else self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None or self.written:
+                self.finish()
+        finally:
+            self.release()
+
+    def file(self, name: str) -> Path:
+        """The path of an output file (recorded as written by this job)."""
+        path = self.path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.written.append(path)
+        return path
+
+    def write_text(self, name: str, text: str) -> Path:
+        """Write a text file atomically."""
+        path = self.file(name)
+        with atomic_path(path) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+        return path
+
+    def finish(self) -> None:
+        """Remove the files an older job wrote here that this one did not, then record ours."""
+        mine = {p.resolve() for p in self.written}
+        for name in _read_manifest(self.path):
+            old = (self.path / name).resolve()
+            if old not in mine and old.is_file() and self.path.resolve() in old.parents:
+                with contextlib.suppress(OSError):
+                    old.unlink()
+        names = sorted({str(p.relative_to(self.path)) for p in self.written})
+        manifest = {"kind": self.kind, "files": names}
+        with atomic_path(self.path / MANIFEST) as tmp:
+            tmp.write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+
+    def release(self) -> None:
+        if self._lock is not None:
+            _unlock(self._lock)
+            self._lock = None
+
+    def _refuse_other_kinds(self) -> None:
+        recorded = _read_manifest_kind(self.path)
+        kinds = {recorded} if recorded else set()
+        if not recorded:
+            kinds = {
+                k for k, names in _MARKERS.items() if all((self.path / n).exists() for n in names)
+            }
+        others = sorted(kinds - {self.kind})
+        if others:
+            raise InputError(
+                f"{self.path} holds the output of a {others[0].replace('_', '-')} job; "
+                f"choose another folder for this {self.kind.replace('_', '-')} output",
+                key=self.option,
+            )
+
+
+def add_to_manifest(folder: str | Path, names: list[str]) -> None:
+    """Add files written later into an output folder (figures redrawn, animations, a report
+    page) to its list of written files, so that the next job into the folder replaces them
+    too. A folder without a manifest (not written by railexu) is left alone."""
+    path = Path(folder) / MANIFEST
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return
+    data["files"] = sorted(set(data.get("files", [])) | set(names))
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+
+
+def _read_manifest(path: Path) -> list[str]:
+    try:
+        data = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
+        return [str(n) for n in data.get("files", [])]
+    except (OSError, ValueError, AttributeError):
+        return []
+
+
+def _read_manifest_kind(path: Path) -> str:
+    try:
+        return str(json.loads((path / MANIFEST).read_text(encoding="utf-8")).get("kind", ""))
+    except (OSError, ValueError, AttributeError):
+        return ""
+
+
+def _lock(path: Path):
+    """An exclusive, non-blocking lock on the folder (POSIX ``flock``; none on Windows)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows: no lock
+        return None
+    fh = (path / LOCK_FILE).open("w")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        raise InputError(
+            f"{path}: another railexu process is writing this folder; wait for it or choose "
+            "another folder"
+        ) from None
+    return fh
+
+
+def _unlock(fh) -> None:
+    import fcntl
+
+    with contextlib.suppress(OSError):
+        fcntl.flock(fh, fcntl.LOCK_UN)
+    fh.close()

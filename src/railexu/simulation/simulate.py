@@ -1,0 +1,369 @@
+"""Run a vehicle on a track: solver settings, progress, status, outputs.
+
+:func:`run` is the public function behind ``railexu run``: it builds the Exudyn model
+(:mod:`railexu.model.assembly`), integrates it with Exudyn's implicit generalized-alpha solver at
+constant forward speed, records a time series, watches for derailment and divergence, and returns a
+:class:`RunResult` whose time series and summary :func:`write_run` saves (also for a run that
+stopped early: the results up to that point are kept).
+
+Step size: the default, 2 ms, was checked against a 0.25 ms reference on the seed's scenario
+(see ``docs/validation.md`` and ``tests/test_dynamics.py``); generalized-alpha with spectral
+radius 0.7 damps the stiff wheel-rail contact modes, and modified Newton with a relative
+tolerance of 1e-4 re-uses one Jacobian for many steps (Rxyz nodes, ``docs/dev/exudyn-api.md``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import signal
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from railexu.model.assembly import VehicleModel
+from railexu.operation.run_settings import RunSettings as RunSettings
+from railexu.operation.run_settings import RunSettingsError as RunSettingsError
+from railexu.operation.run_settings import run_settings_from_dict as run_settings_from_dict
+from railexu.simulation.longitudinal import longitudinal_summary
+from railexu.simulation.preflight import check_initial_offset, check_time_step_for_track
+from railexu.simulation.recorder import CONTACT_FIELDS as CONTACT_FIELDS
+from railexu.simulation.recorder import POINT_FIELDS as POINT_FIELDS
+from railexu.simulation.recorder import Recorder
+from railexu.simulation.recorder import contact_fields as contact_fields
+from railexu.simulation.recorder import point_accelerations as point_accelerations
+from railexu.simulation.timeseries import TimeSeries
+from railexu.track.track import Track, ideal_straight_track
+from railexu.vehicle.vehicle import Vehicle
+
+
+@dataclass
+class RunResult:
+    """Outcome of a run: the time series up to the end (or the stop), the summary (a
+    :class:`railexu.results.RunSummary` from :func:`railexu.results.run.run`; the run's facts only
+    from :func:`simulate`), the status, the model."""
+
+    timeseries: TimeSeries
+    summary: Any
+    status: dict
+    settings: RunSettings
+    vehicle: Vehicle
+    track: Track
+    timings_s: dict = field(default_factory=dict)
+    model: VehicleModel | None = field(default=None, repr=False)
+    #: the kernel's contact points at every output time, ``(n, n_ws, 2, MAX_POINTS, fields)``
+    #: with the fields of :data:`POINT_FIELDS` (wheelsets from the front), or None
+    contact_points: np.ndarray | None = field(default=None, repr=False)
+
+
+ProgressCallback = Callable[[float, float, float, float], None]
+
+#: Run states in which the run reached its end: cleanly, or with a safety criterion exceeded
+#: (set by the assessment, :func:`railexu.results.run.run`).
+COMPLETED_STATES = ("completed", "completed_with_exceedances")
+#: Every run state: the run's end, or where and why it stopped.
+RUN_STATES = (*COMPLETED_STATES, "derailed", "diverged", "interrupted")
+
+
+def print_progress(stream=sys.stderr) -> ProgressCallback:
+    """A progress callback printing distance, speed and time left on one updating line."""
+    state = {"last": 0.0}
+
+    def report(distance: float, total: float, speed: float, eta_s: float) -> None:
+        now = time.perf_counter()
+        if now - state["last"] < 0.5 and distance < total:
+            return
+        state["last"] = now
+        eta = f"{eta_s:5.1f} s left" if math.isfinite(eta_s) else "  ... s left"
+        end = "\n" if distance >= total else ""
+        stream.write(
+            f"\r  {distance:8.1f} / {total:.1f} m   {speed:6.2f} m/s ({speed * 3.6:5.1f} km/h)"
+            f"   {eta}   {end}"
+        )
+        stream.flush()
+
+    return report
+
+
+def wheelset_order(vehicle: Vehicle) -> list[int]:
+    """Indices of the wheelsets from the front (largest x) to the rear."""
+    return sorted(range(len(vehicle.wheelsets)), key=lambda i: -vehicle.wheelsets[i].position_x_m)
+
+
+_STOP_SIGNALS = {"SIGINT": "Ctrl-C, SIGINT", "SIGTERM": "SIGTERM"}
+
+
+def _catch_stop_signals(rec: dict) -> dict:
+    """Let SIGINT and SIGTERM end the run at the next step (``rec["interrupted"]`` then names the
+    signal); returns the previous handlers. A signal that the process ignores (a study's worker
+    ignores SIGINT) stays ignored; outside the main thread nothing can be caught."""
+    previous = {}
+    for name, label in _STOP_SIGNALS.items():
+        signum = getattr(signal, name)
+        with contextlib.suppress(ValueError):
+            if signal.getsignal(signum) is not signal.SIG_IGN:
+                previous[signum] = signal.signal(
+                    signum, lambda *_, label=label: rec.__setitem__("interrupted", label)
+                )
+    return previous
+
+
+def simulate(
+    vehicle: Vehicle,
+    track: Track | None = None,
+    settings: RunSettings | None = None,
+    progress: ProgressCallback | None = None,
+    contact_threads_when: Callable[[], bool] | None = None,
+) -> RunResult:
+    """Simulate ``vehicle`` running on ``track`` (ideal straight track by default), without the
+    assessment: :func:`railexu.results.run.run` adds it (the public ``railexu.run``).
+
+    ``contact_threads_when``: where the wheelsets' contacts may run on threads
+    (:mod:`railexu.runtime.threads`), they start when this returns True, asked at every output time
+    (``railexu run`` asks whether its warm process has done its imports: until then that process
+    needs the second core); None: from the start. The results are the same either way.
+
+    The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
+    leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
+    ``interrupted`` on Ctrl-C or SIGTERM; the time series up to that point is returned either
+    way. The result's ``summary`` holds the facts of the run (status, solver statistics,
+    settings, names, timings, warnings).
+
+    Raises:
+        InputError: an initial lateral offset that lifts a wheel up its flange
+            (:func:`railexu.simulation.preflight.check_initial_offset`), a model that cannot be
+            built.
+    """
+    settings = settings or RunSettings()
+    track = track or ideal_straight_track()
+    t_start = time.perf_counter()
+    warnings = check_initial_offset(vehicle, track, settings)
+    warnings += check_time_step_for_track(vehicle, track, settings)
+    model = VehicleModel(
+        vehicle,
+        track,
+        settings.speed_m_per_s,
+        settings.initial_lateral_m,
+        settings.distance_m,
+        settings.deceleration_m_per_s2,
+        speed_profile=settings.speed_profile,
+        traction=settings.traction,
+    )
+    model.warm_up(threads_now=contact_threads_when is None)
+    t_built = time.perf_counter()
+    order = wheelset_order(vehicle)
+    ss, n_steps = _solver_settings(settings)
+    recorder = Recorder(
+        model, vehicle, settings, order, n_steps // settings.output_every + 2,
+        _flange_heights(model),
+    )  # fmt: skip
+    wall_int, error, stop = _integrate(
+        model, settings, ss, recorder, progress, contact_threads_when
+    )
+    status = _final_status(model, settings, recorder, error, stop)
+    ts = recorder.timeseries()
+    timings = {
+        "build_s": t_built - t_start,
+        "integration_s": wall_int,
+        "total_s": time.perf_counter() - t_start,
+    }
+    facts = {
+        "status": status,
+        "timings_s": timings,
+        "solver": _solver_statistics(model),
+        "settings": asdict(settings),
+        "vehicle": vehicle.name,
+        "track": track.name,
+    }
+    warnings += list(model.axle_load_warnings)
+    if warnings:
+        facts["warnings"] = warnings
+    facts["longitudinal"] = longitudinal_summary(ts, model)
+    points = recorder.contact_points()
+    return RunResult(ts, facts, status, settings, vehicle, track, timings, model, points)
+
+
+def _flange_heights(model: VehicleModel) -> list[float]:
+    """Height of the flange tip above the tape circle of every wheelset's wheel [m]."""
+    return [
+        float(
+            np.max(g.left.wheel.height(np.linspace(g.left.wheel.y_min, g.left.wheel.y_max, 2001)))
+        )
+        for g in model.geometries
+    ]
+
+
+def _solver_settings(settings: RunSettings):
+    """Exudyn's simulation settings for the run and the number of steps."""
+    import exudyn as exu
+
+    h = settings.time_step_s
+    n_steps = int(math.ceil(settings.duration_s / h - 1e-9))
+    ss = exu.SimulationSettings()
+    ti = ss.timeIntegration
+    ti.startTime = 0.0
+    ti.endTime = n_steps * h
+    ti.numberOfSteps = n_steps
+    ti.verboseMode = 0
+    ti.generalizedAlpha.spectralRadius = (
+        settings.spectral_radius if settings.solver == "generalized_alpha" else 1.0
+    )
+    ti.newton.useModifiedNewton = True
+    ti.newton.relativeTolerance = settings.newton_relative_tolerance
+    ti.newton.modifiedNewtonContractivity = 0.2
+    ti.minimumStepSize = h / 1024.0  # impacts on a rigid rail may need a few tiny steps
+    # a state at rest in exact equilibrium (a centred free wheelset) leaves only the round-off
+    # of the contact forces as residual (~1e-7 N: Hertz's K delta^1.5 with delta a difference
+    # of positions ~0.6 m); Exudyn's default 1e-10 cannot be met then and the step fails.
+    # 1e-4 (N per coordinate) is an acceleration error below 1e-7 m/s^2 of a 1 t body
+    ti.newton.absoluteTolerance = 1.0e-4
+    ss.solution.file.write = False
+    ss.solution.sensors.active = False
+    ss.show.computationTime = False
+    ss.show.statistics = False
+    return ss, n_steps
+
+
+def _integrate(model, settings, ss, recorder, progress, contact_threads_when=None):
+    """Run Exudyn's solver with recording, progress and stop signals (and the contacts' threads
+    started when ``contact_threads_when()`` says so).
+
+    Returns ``(wall-clock seconds, solver exception or None, stop status or None)``."""
+    import exudyn as exu
+
+    mbs = model.mbs
+    ti = ss.timeIntegration
+    h = settings.time_step_s
+    rec = {"status": None, "next": 0.0, "interrupted": False}
+    wall0 = [time.perf_counter()]
+
+    def record(t: float) -> bool:
+        """Store one output row at time t; returns False when the run must stop."""
+        data = mbs.systemData
+        status = recorder.record(
+            t,
+            data.GetODE2Coordinates(),
+            data.GetODE2Coordinates_t(),
+            data.GetODE2Coordinates_tt(),
+        )
+        if status is not None:
+            rec["status"] = status
+        if contact_threads_when is not None and model.threads_pending and contact_threads_when():
+            model.start_threads(t)
+        if progress is not None:
+            elapsed = time.perf_counter() - wall0[0]
+            frac = t / ti.endTime if ti.endTime > 0 else 1.0
+            eta = elapsed * (1.0 - frac) / frac if frac > 0 else math.inf
+            progress(model.distance_at(t), settings.distance_m, model.speed_at(t), eta)
+        return rec["status"] is None
+
+    interval = settings.output_every * h
+
+    def pre_step(mbs_, t: float) -> bool:
+        # t is the end time of the step about to be computed: the speed it must reach, or
+        # (free motion) the torques; False ends a free run at its distance or standstill
+        return model.begin_step(t, h, settings.distance_m)
+
+    def post_step(mbs_, t: float) -> bool:
+        # called with the initial state (t = 0) and after every step, with the state at t
+        if rec["interrupted"]:
+            record(t)
+            rec["status"] = ("interrupted", t, f"interrupted ({rec['interrupted']})")
+            return False
+        if t >= rec["next"] - 0.5 * h:
+            # next output one interval later, on the grid k * interval, so that runs with
+            # different steps record at the same times
+            rec["next"] = (math.floor(t / interval + 0.5) + 1) * interval
+            return record(t)
+        return True
+
+    if settings.speed_varies:
+        mbs.SetPreStepUserFunction(pre_step)
+    mbs.SetPostStepUserFunction(post_step)
+    solver_type = (
+        exu.DynamicSolverType.GeneralizedAlpha
+        if settings.solver == "generalized_alpha"
+        else exu.DynamicSolverType.TrapezoidalIndex2
+    )
+    wall0[0] = time.perf_counter()
+    error = None
+    # Exudyn warns about memory allocations in user functions (the contact function returns a
+    # numpy array, which it copies): harmless; its console output is off during the solution
+    # so that the progress line stays readable (solver failures still raise exceptions)
+    exu.config.printToConsole = False
+    # Ctrl-C and SIGTERM (what `timeout`, `kill` and container stops send) end the run at the
+    # next step with the results so far (not possible outside the main thread, e.g. in a Dask
+    # worker thread; a process that ignores SIGINT, like a study's worker, keeps ignoring it)
+    previous_handlers = _catch_stop_signals(rec)
+    try:
+        mbs.SolveDynamic(ss, solverType=solver_type)
+    except Exception as exc:  # Exudyn raises its own error types on Newton failure
+        error = exc
+    finally:
+        exu.config.printToConsole = True
+        for signum, handler in previous_handlers.items():
+            signal.signal(signum, handler)
+    wall_int = time.perf_counter() - wall0[0]
+    t_end = mbs.systemData.GetTime()
+    # the final state, when the run's end is not on the output grid
+    if (
+        rec["status"] is None
+        and error is None
+        and (recorder.n == 0 or recorder.last_time < t_end - 1e-12)
+    ):
+        record(t_end)
+    return wall_int, error, rec["status"]
+
+
+def _final_status(model, settings, recorder, error, stop) -> dict:
+    """The run's status: completed, derailed, diverged or interrupted, where and why."""
+    t_end = model.mbs.systemData.GetTime()
+    if stop is not None:
+        state, t_stop, reason = stop
+    elif error is not None:
+        state, t_stop = "diverged", t_end
+        reason = f"the solver failed at t = {t_end:.3f} s: {str(error).strip().splitlines()[0]}"
+    else:
+        state, t_stop, reason = "completed", t_end, ""
+    return {
+        "state": state,
+        "distance_m": model.distance_at(t_stop),
+        "time_s": t_stop,
+        "reason": reason,
+    }
+
+
+def _solver_statistics(model: VehicleModel) -> dict:
+    """Newton iterations, Jacobian updates and steps of Exudyn's solver."""
+    try:
+        it = model.mbs.sys["dynamicSolver"].it
+        calls, seconds = model.force_calls
+        return {
+            "newton_iterations": int(it.newtonStepsCount),
+            "jacobian_updates": int(it.newtonJacobiCount),
+            "steps": int(it.currentStepIndex),
+            # evaluations of the wheel-rail force function and the wall-clock time in them
+            "force_evaluations": int(calls),
+            "force_function_s": float(seconds),
+            # threads of the wheelsets' contacts (railexu.runtime.threads; 1: one after the other)
+            "contact_threads": int(model.contact_threads),
+            # the simulated time from which they ran (null: never)
+            "contact_threads_from_s": model.contact_threads_from_s,
+        }
+    except (KeyError, AttributeError):
+        return {}
+
+
+def flange_angle_rad(model: VehicleModel) -> float:
+    """Flange angle of the (first) wheel profile [rad]: the largest slope of the flank between
+    the flange tip (the highest point) and the tape circle (S1002: 70 deg). The flange back
+    beyond the tip is not part of it."""
+    wheel = model.geometries[0].left.wheel
+    s = np.linspace(wheel.y_min, 0.0, 8001)
+    tip = s[int(np.argmax(wheel.height(s)))]
+    flank = s[s >= tip]
+    return float(np.max(np.arctan(np.abs(wheel.slope(flank)))))

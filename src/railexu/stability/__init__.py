@@ -1,0 +1,89 @@
+"""Critical speed: linear eigenvalues, nonlinear bisection, and the ramp method.
+
+Above its critical speed a railway vehicle hunts: a self-excited lateral oscillation of its
+wheelsets and bogies. Three ways to find it (``docs/assessment.md`` and ``docs/validation.md``):
+
+- **linear** (:func:`linear_stability`): linearise the vehicle about centred running at a speed
+  with Exudyn (``ComputeLinearizedSystem``: stiffness, damping and mass matrices, the creep
+  damping included through the contact force's numerical Jacobian) and follow every lateral
+  mode over speed, each named by its participation (wheelset or bogie hunting, car-body
+  lateral, yaw or roll); the critical speed is the lowest at which a mode's damping ratio
+  crosses zero, reported with the mode's name. As
+  the classical linear analysis does, the wheel profiles are replaced by cones with the
+  *equivalent conicity* of the profile pair (EN 15302, harmonic linearisation at a given
+  amplitude, 3 mm by default), and creep follows Kalker's linear theory. (``linearization =
+  "profiles"`` linearises the real profile contact instead, whose slope at the centre can be far
+  from the equivalent conicity.)
+- **nonlinear bisection** (:func:`bisection_critical_speed`): runs of the full model after a
+  lateral disturbance (an initial lateral offset of the whole vehicle); a run is *unstable*
+  when the lateral motion of a wheelset over the last 10 % of the distance still exceeds a
+  threshold amplitude (3 mm by default) or grows; bisection between a stable and an unstable
+  speed. Deterministic: the same inputs give the same speed.
+- **ramp** (:func:`ramp_critical_speed`): start above the critical speed from a disturbance,
+  let the hunting settle, then decelerate slowly; the speed at which the limit cycle vanishes
+  (its amplitude falls below the threshold for good) is the nonlinear critical speed from
+  above, which is lower than the linear one where the bifurcation is subcritical.
+
+Modules: :mod:`.settings` (settings and their parsing), :mod:`.linear`, :mod:`.nonlinear`,
+:mod:`.analysis` (:func:`critical_speed` and the comparison of linear and nonlinear values).
+"""
+
+from railexu.stability.analysis import (
+    COMPARISON_TOLERANCE,
+    _jsonable,
+    compare_linear_nonlinear,
+    critical_speed,
+)
+from railexu.stability.linear import (
+    HUNTING_MODES,
+    MODE_NAMES,
+    Mode,
+    body_roles,
+    lateral_modes,
+    linear_model_vehicle,
+    linear_stability,
+    name_mode,
+    profile_equivalent_conicity,
+)
+from railexu.stability.nonlinear import (
+    bisection_critical_speed,
+    nonlinear_run_is_stable,
+    ramp_critical_speed,
+)
+from railexu.stability.settings import (
+    CRITICAL_SPEED_KEYS,
+    LINEARIZATIONS,
+    METHODS,
+    CriticalSpeedSettings,
+    StabilityError,
+    critical_speed_settings_from_dict,
+    parse_methods,
+    print_messages,
+)
+
+__all__ = [
+    "COMPARISON_TOLERANCE",
+    "CRITICAL_SPEED_KEYS",
+    "HUNTING_MODES",
+    "LINEARIZATIONS",
+    "METHODS",
+    "MODE_NAMES",
+    "CriticalSpeedSettings",
+    "Mode",
+    "StabilityError",
+    "_jsonable",
+    "bisection_critical_speed",
+    "body_roles",
+    "compare_linear_nonlinear",
+    "critical_speed",
+    "critical_speed_settings_from_dict",
+    "lateral_modes",
+    "linear_model_vehicle",
+    "linear_stability",
+    "name_mode",
+    "nonlinear_run_is_stable",
+    "parse_methods",
+    "print_messages",
+    "profile_equivalent_conicity",
+    "ramp_critical_speed",
+]

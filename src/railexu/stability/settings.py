@@ -1,0 +1,150 @@
+"""Settings of a critical-speed analysis, from code, files (study ``critical_speed:``
+sections) and the command line."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+from railexu.errors import InputError, did_you_mean
+
+METHODS = ("linear", "bisection", "ramp")
+LINEARIZATIONS = ("equivalent_conicity", "profiles")
+
+
+class StabilityError(InputError):
+    """Invalid critical-speed settings."""
+
+
+@dataclass(frozen=True)
+class CriticalSpeedSettings:
+    """Settings of a critical-speed analysis (SI units).
+
+    Attributes:
+        methods: any of ``linear``, ``bisection``, ``ramp``.
+        speed_min_m_per_s, speed_max_m_per_s: the speed range searched.
+        tolerance_m_per_s: width of the final bisection bracket.
+        initial_lateral_m: lateral disturbance (initial offset of the whole vehicle).
+        threshold_m: amplitude above which a nonlinear run counts as hunting.
+        distance_m: distance of each bisection run.
+        linear_points: number of speeds of the linear analysis.
+        conicity_amplitude_m: amplitude at which the equivalent conicity is taken.
+        linearization: ``equivalent_conicity`` (default) or ``profiles``.
+        ramp_deceleration_m_per_s2: deceleration of the ramp.
+        ramp_settle_m: distance run at the top speed before the ramp starts.
+        time_step_s: integration step of the nonlinear runs.
+    """
+
+    methods: tuple[str, ...] = METHODS
+    speed_min_m_per_s: float = 5.0
+    speed_max_m_per_s: float = 80.0
+    tolerance_m_per_s: float = 1.0
+    initial_lateral_m: float = 0.004
+    threshold_m: float = 0.003
+    distance_m: float = 300.0
+    linear_points: int = 31
+    conicity_amplitude_m: float = 0.003
+    linearization: str = "equivalent_conicity"
+    ramp_deceleration_m_per_s2: float = 0.5
+    ramp_settle_m: float = 200.0
+    time_step_s: float = 0.002
+
+    def __post_init__(self) -> None:
+        for m in self.methods:
+            if m not in METHODS:
+                raise StabilityError(f"unknown method {m!r}; expected some of {', '.join(METHODS)}")
+        if self.linearization not in LINEARIZATIONS:
+            raise StabilityError(
+                f"linearization {self.linearization!r}: expected one of {', '.join(LINEARIZATIONS)}"
+            )
+        if not 0.0 < self.speed_min_m_per_s < self.speed_max_m_per_s:
+            raise StabilityError("need 0 < speed_min < speed_max")
+        if not self.tolerance_m_per_s > 0.0:
+            raise StabilityError("tolerance must be > 0 m/s")
+        if not self.threshold_m > 0.0:
+            raise StabilityError("threshold must be > 0 m")
+        if self.linear_points < 2:
+            raise StabilityError("linear_points must be >= 2")
+
+
+CRITICAL_SPEED_KEYS = (
+    "methods",
+    "speed_min",
+    "speed_max",
+    "tolerance",
+    "initial_lateral",
+    "threshold",
+    "distance",
+    "linear_points",
+    "conicity_amplitude",
+    "linearization",
+    "ramp_deceleration",
+    "ramp_settle",
+    "time_step",
+)
+
+
+def critical_speed_settings_from_dict(
+    data: dict, source: str = "<critical speed>", lines: dict | None = None, path: tuple = ()
+) -> CriticalSpeedSettings:
+    """Settings from a mapping with units (study files, ``critical_speed:`` section)::
+
+        {methods: [linear, bisection], speed_min: 20 m/s, speed_max: 80 m/s, tolerance: 2 m/s}
+
+    Raises:
+        InputError: unknown keys, wrong units or values, naming source, line and key.
+    """
+    from railexu.inputs import Section
+
+    sec = Section(data, source, lines, path, CRITICAL_SPEED_KEYS)
+    d = CriticalSpeedSettings()
+    methods = sec.string_list("methods", default=d.methods)
+    for m in methods:
+        if m not in METHODS:
+            sec.fail(f"unknown method {m!r}; expected some of {', '.join(METHODS)}", key="methods")
+    kwargs = dict(
+        methods=tuple(methods),
+        speed_min_m_per_s=sec.quantity("speed_min", "m/s", default=d.speed_min_m_per_s),
+        speed_max_m_per_s=sec.quantity("speed_max", "m/s", default=d.speed_max_m_per_s),
+        tolerance_m_per_s=sec.quantity("tolerance", "m/s", default=d.tolerance_m_per_s),
+        initial_lateral_m=sec.quantity("initial_lateral", "m", default=d.initial_lateral_m),
+        threshold_m=sec.quantity("threshold", "m", default=d.threshold_m),
+        distance_m=sec.quantity("distance", "m", default=d.distance_m, positive=True),
+        linear_points=sec.integer("linear_points", default=d.linear_points, minimum=2),
+        conicity_amplitude_m=sec.quantity(
+            "conicity_amplitude", "m", default=d.conicity_amplitude_m, positive=True
+        ),
+        linearization=sec.string("linearization", default=d.linearization, choices=LINEARIZATIONS),
+        ramp_deceleration_m_per_s2=sec.quantity(
+            "ramp_deceleration", "m/s^2", default=d.ramp_deceleration_m_per_s2, positive=True
+        ),
+        ramp_settle_m=sec.quantity("ramp_settle", "m", default=d.ramp_settle_m, minimum=0.0),
+        time_step_s=sec.quantity("time_step", "s", default=d.time_step_s, positive=True),
+    )
+    try:
+        return CriticalSpeedSettings(**kwargs)
+    except StabilityError as exc:
+        sec.fail(str(exc))
+        raise  # unreachable
+
+
+def print_messages(stream=sys.stderr) -> Callable[[str], None]:
+    """A progress callback that prints each message on its own line."""
+
+    def report(message: str) -> None:
+        stream.write(f"  {message}\n")
+        stream.flush()
+
+    return report
+
+
+def parse_methods(text: str | Sequence[str]) -> tuple[str, ...]:
+    """``"linear,bisection"`` -> ``("linear", "bisection")`` (checked)."""
+    items = text.split(",") if isinstance(text, str) else list(text)
+    methods = tuple(m.strip() for m in items if m.strip())
+    for m in methods:
+        if m not in METHODS:
+            hint = did_you_mean(m, METHODS, known=False)
+            raise StabilityError(f"unknown method {m!r}.{hint} Valid: {', '.join(METHODS)}")
+    return methods

@@ -1,0 +1,243 @@
+"""Track files: rail profile, inclination, gauge, geometry and irregularities.
+
+A track file (``docs/track-format.md``) describes the rails a vehicle runs on::
+
+    format_version: 1
+    name: straight
+    rail_profile: UIC60          # built-in name or a profile file (.prr, two-column text)
+    inclination: 1:40            # a ratio (quoted or not), "none", or an angle with its unit
+    gauge: 1.435 m
+    geometry: {type: straight}   # curves are a planned extension of this section
+    irregularities:
+      type: spectrum             # none | spectrum | measured
+      spectrum: german_low
+      seed: 1
+      wavelength_min: 3 m
+      wavelength_max: 150 m
+
+Only straight track is implemented; the geometry section exists so that curved track (radius,
+transitions, cant) can be added without changing the format of straight-track files. Every key is
+declared once in :mod:`railexu.track.schema`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from railexu.contact.placement import parse_inclination
+from railexu.inputs import InputError, LineMap, Section, load_yaml_with_overrides, resolve_file
+from railexu.inputs.catalog import find_input
+from railexu.profiles import ProfileError, rail_profile
+from railexu.track.alignment import Alignment, alignment_from_dict
+from railexu.track.elastic import ElasticTrack, track_model_from_dict
+from railexu.track.irregularities import (
+    COMPONENTS,
+    IrregularityError,
+    IrregularityProfile,
+    read_measured_irregularities,
+    synthesize_irregularities,
+)
+from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
+
+_SPECTRUM = IRREGULARITIES["spectrum"]
+
+
+@dataclass(frozen=True)
+class IrregularitySpec:
+    """How to obtain the irregularities of a track (see :meth:`Track.irregularities`)."""
+
+    type: str = "none"
+    spectrum: str = ""
+    seed: int = 0
+    wavelength_min_m: float = _SPECTRUM.default("wavelength_min")
+    wavelength_max_m: float = _SPECTRUM.default("wavelength_max")
+    components: tuple[str, ...] = COMPONENTS
+    amplitude_scale: float = _SPECTRUM.default("amplitude_scale")
+    length_m: float | None = None
+    fade_length_m: float = _SPECTRUM.default("fade_length")
+    file: str = ""
+
+
+@dataclass(frozen=True)
+class Track:
+    """A validated track."""
+
+    name: str
+    rail_profile: str = TRACK.default("rail_profile")
+    inclination: str | float = TRACK.default("inclination")
+    gauge_m: float = TRACK.default("gauge")
+    geometry: str = "straight"
+    irregularity: IrregularitySpec = field(default_factory=IrregularitySpec)
+    description: str = ""
+    source: str = ""
+    # design geometry (railexu.track.alignment); None: straight track
+    alignment: Alignment | None = field(default=None, compare=False)
+    # elastic track (railexu.track.elastic); None: rigid
+    elastic: ElasticTrack | None = None
+    # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
+    start_m: float = 0.0
+
+    @property
+    def inclination_rad(self) -> float:
+        return parse_inclination(self.inclination)
+
+    def irregularities(self, length_m: float) -> IrregularityProfile:
+        """The irregularity record covering at least ``[0, length_m]`` of track (m).
+
+        Synthetic records are generated for the file's ``length`` or, if none is given, for the
+        requested length plus 50 m; the same seed always gives the same track.
+        """
+        spec = self.irregularity
+        if spec.type == "none":
+            return IrregularityProfile.zeros(max(length_m, 1.0) + 50.0)
+        if spec.type == "measured":
+            return read_measured_irregularities(spec.file, fade_length_m=spec.fade_length_m)
+        length = spec.length_m if spec.length_m is not None else length_m + 50.0
+        check_record_length(spec, length, _refuse)
+        return synthesize_irregularities(
+            spec.spectrum,
+            length_m=length,
+            seed=spec.seed,
+            wavelength_min_m=spec.wavelength_min_m,
+            wavelength_max_m=spec.wavelength_max_m,
+            amplitude_scale=spec.amplitude_scale,
+            components=spec.components,
+            fade_length_m=spec.fade_length_m,
+        )
+
+
+def _refuse(message: str) -> None:
+    raise IrregularityError(f"track irregularities: {message}")
+
+
+def ideal_straight_track() -> Track:
+    """The default track: ideal straight track, UIC60 rails at 1:40, gauge 1.435 m."""
+    return Track(name="straight (ideal)", description="ideal straight track")
+
+
+def load_track(path: str | Path, overrides: str | Iterable[str] = ()) -> Track:
+    """Read and validate a track file, or a shipped track by name (``"straight_irregular"``);
+    overrides ``dotted.key=value`` are applied first (one string is one override).
+
+    Raises:
+        InputError: any problem, naming the file, the line and the key.
+    """
+    path = find_input("track", path)
+    data, lines = load_yaml_with_overrides(path, overrides)
+    return track_from_dict(data, source=str(path), lines=lines, base_dir=path.parent)
+
+
+def track_from_dict(
+    data: dict, source: str = "<track>", lines: dict | None = None, base_dir: Path | None = None
+) -> Track:
+    """Validate raw track data into a :class:`Track`."""
+    top = TRACK.wrap(data, source, lines if lines is not None else LineMap())
+    TRACK.read(top, "format_version")
+    rail = resolve_file(TRACK.read(top, "rail_profile"), base_dir)
+    try:
+        rail_profile(rail)
+    except ProfileError as exc:
+        top.fail(str(exc), key="rail_profile")
+    written, angle = TRACK.read(top, "inclination")
+    # the geometry and the track model are checked by their own modules (sections, measured
+    # CSV; rigid or elastic), with file, line and key
+    alignment = alignment_from_dict(top.data.get("geometry"), source, top.lines, base_dir)
+    geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
+    elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
+    kind, params = TRACK.read(top, "irregularities")
+    irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
+    if kind == "spectrum":
+        spec = _spectrum_spec(irr, params)
+    elif kind == "measured":
+        spec = _measured_spec(irr, params, base_dir, source)
+    else:
+        spec = IrregularitySpec(type=kind)
+    return Track(
+        name=TRACK.read(top, "name"),
+        rail_profile=rail,
+        inclination=_inclination_value(written, angle),
+        gauge_m=TRACK.read(top, "gauge"),
+        geometry=geometry,
+        irregularity=spec,
+        description=TRACK.read(top, "description"),
+        source=source,
+        alignment=alignment,
+        elastic=elastic,
+        start_m=TRACK.read(top, "start"),
+    )
+
+
+def _inclination_value(written: object, angle_rad: float) -> str | float:
+    """The inclination as written if the model's parser reads it to the same angle (a ratio,
+    ``"none"``: kept for display), else the angle in rad."""
+    if isinstance(written, str):
+        try:
+            if parse_inclination(written) == angle_rad:
+                return written
+        except ValueError:
+            pass
+    return angle_rad
+
+
+def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:
+    components = p["components"]
+    if len(set(components)) != len(components):
+        irr.fail(f"components listed twice: {list(components)}", key="components")
+    spec = IrregularitySpec(
+        type="spectrum",
+        spectrum=p["spectrum"],
+        seed=p["seed"],
+        wavelength_min_m=p["wavelength_min"],
+        wavelength_max_m=p["wavelength_max"],
+        components=components,
+        amplitude_scale=p["amplitude_scale"],
+        length_m=p["length"],
+        fade_length_m=p["fade_length"],
+    )
+    if spec.wavelength_min_m >= spec.wavelength_max_m:
+        irr.fail("wavelength_min must be below wavelength_max", key="wavelength_min")
+    if spec.length_m is not None:
+        check_record_length(spec, spec.length_m, lambda m: irr.fail(m, key="length"))
+    try:  # fail early on spectrum/component combinations the spectrum does not have
+        synthesize_irregularities(
+            spec.spectrum, 4.0 * spec.fade_length_m + 100.0, 0, spec.wavelength_min_m,
+            spec.wavelength_max_m, n_components=4, components=components,
+            fade_length_m=spec.fade_length_m,
+        )  # fmt: skip
+    except (IrregularityError, NotImplementedError) as exc:
+        irr.fail(str(exc))
+    return spec
+
+
+def check_record_length(spec: IrregularitySpec, length_m: float, fail) -> None:
+    """Refuse a synthetic record too long for memory or time (``fail(message)`` raises)."""
+    if not length_m <= MAX_LENGTH_M:
+        fail(f"a record of {length_m:g} m is longer than {MAX_LENGTH_M:g} m: is a unit wrong?")
+    n = synthetic_samples(length_m, spec.wavelength_min_m)
+    if n > MAX_SAMPLES:
+        fail(
+            f"a record of {length_m:g} m at wavelength_min {spec.wavelength_min_m:g} m needs "
+            f"{n:.3g} samples per signal, more than {MAX_SAMPLES:.3g}: shorten it or raise "
+            "wavelength_min"
+        )
+    if 2.0 * spec.fade_length_m > length_m:
+        fail(f"fade_length {spec.fade_length_m:g} m is more than half the record ({length_m:g} m)")
+
+
+def _measured_spec(irr: Section, p: dict, base_dir: Path | None, source: str) -> IrregularitySpec:
+    file = Path(p["file"])
+    if not file.is_absolute() and base_dir is not None:
+        file = base_dir / file
+    if not file.is_file():
+        what = "is a folder, not a file" if file.is_dir() else "not found"
+        irr.fail(f"irregularity file {str(file)!r} {what}", key="file")
+    spec = IrregularitySpec(type="measured", file=str(file), fade_length_m=p["fade_length"])
+    try:
+        read_measured_irregularities(spec.file)
+    except IrregularityError as exc:
+        raise InputError(str(exc), source=source, key="irregularities.file") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        irr.fail(f"cannot read {str(file)!r}: {exc}", key="file")
+    return spec
