@@ -28,7 +28,7 @@ def test_every_code_folder_of_railexu_is_a_package():
 
 
 def test_the_shipped_inputs_are_links_to_the_top_level_folders():
-    for name in ("vehicles", "tracks", "studies"):
+    for name in ("vehicles", "tracks", "studies", "programmes"):
         link = PACKAGE / name
         assert link.is_symlink(), f"{link} must be a symbolic link to ../../{name}"
         assert link.resolve() == (ROOT / name).resolve()
@@ -82,12 +82,12 @@ def wheel(tmp_path_factory) -> zipfile.ZipFile:
 
 def test_the_wheel_ships_every_package_the_inputs_and_profiles(wheel):
     names = set(wheel.namelist())
-    for folder in ("vehicles", "tracks", "studies"):
+    for folder in ("vehicles", "tracks", "studies", "programmes"):
         for path in (ROOT / folder).glob("*.yaml"):
             assert f"railexu/{folder}/{path.name}" in names, path.name
     assert "railexu/data/profiles/MBench_S1002_v3.prw" in names
     for init in PACKAGE.rglob("__init__.py"):
-        if "vehicles" in init.parts or "tracks" in init.parts or "studies" in init.parts:
+        if {"vehicles", "tracks", "studies", "programmes"} & set(init.parts):
             continue
         assert str(init.relative_to(PACKAGE.parent)) in names, init
     assert not any(n.startswith("src/") for n in names)

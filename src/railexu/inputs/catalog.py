@@ -1,7 +1,8 @@
-"""The vehicles, tracks and studies that ship with railexu, by name.
+"""The vehicles, tracks, studies and acceptance programmes that ship with railexu, by name.
 
-They live in ``vehicles/``, ``tracks/`` and ``studies/`` at the top of the repository and are
-installed with the package (as ``railexu.vehicles``, ``railexu.tracks``, ``railexu.studies``), so
+They live in ``vehicles/``, ``tracks/``, ``studies/`` and ``programmes/`` at the top of the
+repository and are installed with the package (as ``railexu.vehicles``, ``railexu.tracks``,
+``railexu.studies``, ``railexu.programmes``), so
 ``railexu run eu07`` works from any folder after ``pip install``. Wherever a name is accepted, a
 path works too: :func:`find_input` takes an existing file first, then a shipped name.
 """
@@ -14,8 +15,13 @@ from pathlib import Path
 
 from railexu.errors import InputError, did_you_mean
 
-KINDS = ("vehicle", "track", "study")
-_PACKAGES = {"vehicle": "railexu.vehicles", "track": "railexu.tracks", "study": "railexu.studies"}
+KINDS = ("vehicle", "track", "study", "programme")
+_PACKAGES = {
+    "vehicle": "railexu.vehicles",
+    "track": "railexu.tracks",
+    "study": "railexu.studies",
+    "programme": "railexu.programmes",
+}
 
 
 @dataclass(frozen=True)
@@ -38,7 +44,7 @@ def _folder(kind: str) -> Path:
 
 
 def shipped_names(kind: str) -> list[str]:
-    """The names of the shipped files of one kind (``vehicle``, ``track`` or ``study``)."""
+    """The names of the shipped files of one kind (one of :data:`KINDS`)."""
     return sorted(p.stem for p in _folder(kind).glob("*.yaml"))
 
 
