@@ -1,9 +1,10 @@
 """The schemas of every input file, and the generated key tables of ``docs/*-format.md``.
 
 Each input declares its keys once: :data:`railexu.vehicle.schema.VEHICLE`,
-:data:`railexu.track.schema.TRACK`, :data:`railexu.operation.run_settings.RUN_SCHEMA` and
-:data:`railexu.study.spec.STUDY`. This module gathers them (it imports the study layer, so it sits
-at the top of the package, beside the command line) and keeps the docs current::
+:data:`railexu.track.schema.TRACK`, :data:`railexu.operation.run_settings.RUN_SCHEMA`,
+:data:`railexu.study.spec.STUDY` and :data:`railexu.assessment.acceptance.programme.PROGRAMME`.
+This module gathers them (it imports the study layer, so it sits at the top of the package,
+beside the command line) and keeps the docs current::
 
     python -m railexu.schema --write-docs     # rewrite the generated regions of docs/
     python -m railexu.schema --check-docs     # exit 1 if a doc is not current (CI, tests)
@@ -16,6 +17,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from railexu.assessment.acceptance.programme import DOC_TABLES as PROGRAMME_TABLES
 from railexu.inputs.docs import region_is_current, render_schemas, update_region
 from railexu.inputs.schema import Schema
 from railexu.operation.run_settings import RUN_SCHEMA
@@ -29,6 +31,7 @@ DOCS: dict[str, tuple[str, Sequence[tuple[str, Schema]]]] = {
     "track": ("docs/track-format.md", TRACK_TABLES),
     "run": ("docs/run-settings-format.md", (("Run settings", RUN_SCHEMA),)),
     "study": ("docs/study-format.md", STUDY_TABLES),
+    "programme": ("docs/acceptance-programme-format.md", PROGRAMME_TABLES),
 }
 
 

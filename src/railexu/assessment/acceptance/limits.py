@@ -62,8 +62,8 @@ class Limit:
     assumption: bool = False
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "value": self.value, "unit": self.unit,
-                "clause": self.clause, "rule": self.rule, "assumption": self.assumption}  # fmt: skip
+        keys = ("name", "value", "unit", "clause", "rule", "assumption")
+        return {k: getattr(self, k) for k in keys}
 
 
 #: Car-body acceleration limits of the normal method (ride characteristics) per category, m/s^2:

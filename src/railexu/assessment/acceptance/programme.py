@@ -310,9 +310,7 @@ def cant_deficiency_for(radius_m: float, cant_m: float, speed_m_per_s: float) ->
     return CANT_BASE_M * speed_m_per_s**2 / (GRAVITY_M_PER_S2 * radius_m) - cant_m
 
 
-def load_programme(
-    name_or_path: str | Path, quick: bool = False, overrides: Any = ()
-) -> Programme:
+def load_programme(name_or_path: str | Path, quick: bool = False, overrides: Any = ()) -> Programme:
     """Read and check a programme file (a path, or the name of a shipped programme).
 
     Args:
@@ -346,6 +344,9 @@ def load_programme(
 def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
     v = ZONE.read_all(sec)
     kind, method = v["kind"], v["method"]
+    if kind == "straight" and method == "two_dimensional":
+        sec.fail("a straight zone has no cant deficiency or curvature to regress on: use "
+                 "one_dimensional", key="method")  # fmt: skip
     regressors = tuple(dict.fromkeys(v["regressors"]))
     needed = 2 if method == "one_dimensional" else len(regressors) + 2
     if v["min_sections"] < needed:
@@ -405,9 +406,6 @@ def _check_conditions(sec: Section, zone: Zone) -> None:
     if zone.kind == "straight":
         if zone.speed_m_per_s is None:
             sec.fail("missing key 'speed': a straight zone runs at a speed")
-        if zone.method == "two_dimensional":
-            sec.fail("a straight zone has no cant deficiency or curvature to regress on: use "
-                     "one_dimensional", key="method")  # fmt: skip
         return
     if (zone.speed_m_per_s is None) == (zone.cant_deficiency_m is None):
         sec.fail("give either 'speed' or 'cant_deficiency_min'/'cant_deficiency_max' for a "
@@ -417,9 +415,9 @@ def _check_conditions(sec: Section, zone: Zone) -> None:
     if low_i is not None and low_i + zone.cant_m <= 0.0:
         sec.fail(f"cant deficiency {low_i:g} m with cant {zone.cant_m:g} m means standstill",
                  key="cant_deficiency_min")  # fmt: skip
-    if zone.method == "two_dimensional" and "curvature" in zone.regressors:
-        if zone.radius_m[1] <= zone.radius_m[0]:
-            sec.fail("regression over curvature needs a radius range", key="radius_max")
+    curvature = zone.method == "two_dimensional" and "curvature" in zone.regressors
+    if curvature and zone.radius_m[1] <= zone.radius_m[0]:
+        sec.fail("regression over curvature needs a radius range", key="radius_max")
     for spec in zone.sections():
         if not 0.0 < spec.speed_m_per_s <= 150.0:
             sec.fail(f"section {spec.name}: speed {spec.speed_m_per_s:.1f} m/s is outside "
@@ -479,3 +477,14 @@ def _limits(top: Section) -> dict[str, tuple[float, str]]:
         value = sec.quantity("value", LIMIT_UNITS[name], positive=True)
         out[str(name)] = (value, LIMIT.read(sec, "note"))
     return out
+
+
+#: The tables of ``docs/acceptance-programme-format.md`` (``python -m railexu.schema``).
+DOC_TABLES = (
+    ("Top level", PROGRAMME),
+    ("`statistics`", STATISTICS),
+    ("`limits.<quantity>`", LIMIT),
+    ("`zones.<name>`", ZONE),
+    ("`zones.<name>.track_quality`", QUALITY),
+    ("`zones.<name>.evaluate_at`", EVALUATE_AT),
+)
