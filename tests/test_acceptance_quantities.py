@@ -141,3 +141,11 @@ def test_static_wheel_load_from_declared_axle_loads_or_the_weight():
     undeclared.wheelsets = tuple(SimpleNamespace(axle_load_N=None, mass_kg=1.5e3)
                                  for _ in range(2))  # fmt: skip
     assert static_wheel_load_N(undeclared) == pytest.approx(Q0)  # 400 kN / 4 wheels
+
+
+def test_section_values_have_a_json_form(curve_values):
+    import json
+
+    data = json.loads(json.dumps(curve_values.to_dict()))
+    assert data["section"] == "z_001" and data["window_m"] == [100.0, 300.0]
+    assert data["processing"]["Q_max"]["where"] == "ws2_left"

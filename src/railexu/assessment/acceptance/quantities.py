@@ -118,6 +118,19 @@ class SectionValues:
     conditions: dict[str, Any] = field(default_factory=dict)
     notes: dict[str, str] = field(default_factory=dict)
 
+    def to_dict(self) -> dict:
+        """The JSON form: the section's name, window, conditions, values (None for NaN),
+        units, processing and notes."""
+        return {
+            "section": self.section.name,
+            "window_m": list(self.window_m),
+            "conditions": dict(self.conditions),
+            "values": {k: (v if math.isfinite(v) else None) for k, v in self.values.items()},
+            "units": dict(self.units),
+            "processing": {k: p.to_dict() for k, p in self.processing.items()},
+            "notes": dict(self.notes),
+        }
+
     def regressors(self, names: tuple[str, ...] | list[str]) -> list[float]:
         """The section's conditions ``cant_deficiency`` (m) and ``curvature`` (1/m) by name."""
         out = []

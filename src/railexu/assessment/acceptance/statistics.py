@@ -105,10 +105,21 @@ class CriterionResult:
     details: dict = field(default_factory=dict)
     note: str = ""
 
+    def to_dict(self) -> dict:
+        """The JSON form (``pass`` for ``passed``, sections as a list)."""
+        return {"name": self.name, "value": self.value, "limit": self.limit, "unit": self.unit,
+                "pass": self.passed, "method": self.method, "clause": self.clause,
+                "sections": list(self.sections), "assumption": self.assumption,
+                "details": dict(self.details), "note": self.note}  # fmt: skip
+
 
 @dataclass(frozen=True)
 class ZoneResult:
-    """The verdict of one zone: every criterion, passed if all evaluated criteria pass."""
+    """The verdict of one zone: every criterion, passed if all evaluated criteria pass.
+
+    ``reduced``: the zone was evaluated with fewer sections than the programme's minimum (the
+    ``--quick`` variant): a trend, not an acceptance verdict.
+    """
 
     zone: str
     method: str
@@ -122,6 +133,12 @@ class ZoneResult:
         if not verdicts:
             return None
         return all(verdicts)
+
+    def to_dict(self) -> dict:
+        """The JSON form."""
+        return {"zone": self.zone, "method": self.method, "pass": self.passed,
+                "reduced": self.reduced,
+                "criteria": {k: c.to_dict() for k, c in self.criteria.items()}}  # fmt: skip
 
 
 def one_dimensional(values: ArrayLike, k: float, minimum: int = 2) -> OneDimensional:
@@ -203,6 +220,11 @@ def _criterion(zone: Zone, name: str, svs: Sequence[SectionValues], limit: Limit
                 method=zone.method, sections=used)  # fmt: skip
     clause = CLAUSE + ("" if limit is None else f"; limit: {limit.clause}")
     assumption = zone.statistics_assumption or bool(limit and limit.assumption)
+    if not used:
+        why = next((sv.notes[name] for sv in svs if name in getattr(sv, "notes", {})), "")
+        return CriterionResult(value=None, passed=None, clause=clause, assumption=assumption,
+                               note=f"not evaluated: no section has a value ({why or 'NaN'})",
+                               **base)  # fmt: skip
     try:
         if zone.method == "one_dimensional":
             est = one_dimensional(values, k, zone.min_sections)
