@@ -32,6 +32,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
+from railexu.assessment import en14363
 from railexu.assessment.en14363 import ALPHA, Y_OVER_Q_LIMIT, alpha_for
 from railexu.errors import InputError
 
@@ -90,8 +91,9 @@ Q_QST_LIMIT_KN = 145.0
 
 
 def track_shifting_limit_N(static_wheel_load_N: float, category: str) -> float:
-    """``alpha (10 kN + 2 Q0 / 3)`` (N) with ``Q0`` the static wheel load (N)."""
-    return alpha_for(category) * (10.0 * KN + 2.0 * static_wheel_load_N / 3.0)
+    """``alpha (10 kN + 2 Q0 / 3)`` (N) with ``Q0`` the static wheel load (N): the formula of
+    :func:`railexu.assessment.en14363.track_shifting_limit_N` (which takes the axle load 2 Q0)."""
+    return en14363.track_shifting_limit_N(2.0 * static_wheel_load_N, alpha_for(category))
 
 
 def y_qst_limit_N(mean_radius_m: float) -> float:

@@ -30,9 +30,9 @@ programme file, marked there as railexu's assumption where not public.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
 
 from railexu.assessment.en14363 import CATEGORIES
 from railexu.errors import InputError
@@ -310,7 +310,9 @@ def cant_deficiency_for(radius_m: float, cant_m: float, speed_m_per_s: float) ->
     return CANT_BASE_M * speed_m_per_s**2 / (GRAVITY_M_PER_S2 * radius_m) - cant_m
 
 
-def load_programme(name_or_path: str | Path, quick: bool = False, overrides: Any = ()) -> Programme:
+def load_programme(
+    name_or_path: str | Path, quick: bool = False, overrides: str | Iterable[str] = ()
+) -> Programme:
     """Read and check a programme file (a path, or the name of a shipped programme).
 
     Args:
