@@ -149,3 +149,29 @@ def test_section_values_have_a_json_form(curve_values):
     data = json.loads(json.dumps(curve_values.to_dict()))
     assert data["section"] == "z_001" and data["window_m"] == [100.0, 300.0]
     assert data["processing"]["Q_max"]["where"] == "ws2_left"
+
+
+def test_a_zone_from_synthetic_sections_against_mean_plus_k_s():
+    """Five straight sections whose sum Y differs by 2 kN steps (50, 52, ..., 58 kN): the zone's
+    estimate is mean + 2.2 s = 54 kN + 2.2 x 3.1623 kN, against alpha (10 + 2 Q0 / 3) kN."""
+    from railexu.assessment.acceptance.limits import zone_limits
+    from railexu.assessment.acceptance.programme import TrackQuality, Zone
+    from railexu.assessment.acceptance.statistics import evaluate_zone
+
+    quality = TrackQuality("QN1", "german_low", (3.0, 25.0), (7e-4, 7e-4), (1e-3, 1e-3))
+    zone = Zone(name="z", kind="straight", n_sections=5, section_length_m=200.0,
+                run_in_m=100.0, method="one_dimensional", min_sections=5,
+                track_quality=quality, speed_m_per_s=SPEED)  # fmt: skip
+    values = []
+    for k, section in enumerate(zone.sections()):
+        ts = _series()
+        ts.columns["ws2_left_Y_N"] = ts.columns["ws2_left_Y_N"] + 2e3 * k
+        values.append(section_values(ts, _vehicle(), section))
+    limits = zone_limits("wagon", zone, _vehicle())
+    result = evaluate_zone(zone, values, limits)
+    c = result.criteria["sum_Y_2m"]
+    assert c.value == pytest.approx(54e3 + 2.2 * math.sqrt(40e6 / 4.0), rel=1e-3)
+    assert c.limit == pytest.approx(0.85 * (10e3 + 2.0 * Q0 / 3.0))
+    assert c.passed is True  # 60.96 kN <= 65.17 kN
+    assert result.criteria["Y_qst"].value is None  # straight track: not evaluated
+    assert result.criteria["Q_max"].limit == pytest.approx(Q0 + 90e3)  # 72 km/h: no cap

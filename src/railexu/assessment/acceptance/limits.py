@@ -7,7 +7,8 @@ public texts listed in ``docs/acceptance.md`` (the table of processing and perce
 EN 14363 / UIC 518 on gensys.se, ERA/TD/2012-17/INT for the 2005 edition, CEN/TR 17039:2017 on
 the revision). A value railexu could not confirm in a public text is marked
 ``assumption=True`` and named so in every verdict; a programme file may replace any limit
-(``limits:`` in the programme, :func:`limits_for`'s ``overrides``).
+(``limits:`` in the programme, :func:`limits_for`'s ``overrides``). :func:`zone_limits` takes
+the conditions from a zone and the loads from the vehicle.
 
 Formulas (forces in kN where the standard writes kN; converted to N here):
 
@@ -31,10 +32,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 from railexu.assessment import en14363
 from railexu.assessment.en14363 import ALPHA, Y_OVER_Q_LIMIT, alpha_for
 from railexu.errors import InputError
+
+if TYPE_CHECKING:
+    from railexu.assessment.acceptance.programme import Zone
 
 #: The EN 14363:2016 running-behaviour assessment this module's clauses refer to.
 STANDARD = "EN 14363:2016"
@@ -214,3 +219,27 @@ def _check_positive(key: str, value: float, lo: float, hi: float, unit: str) -> 
     if not (isinstance(value, int | float) and math.isfinite(value) and lo <= value <= hi):
         raise InputError(f"expected a finite value in [{lo:g}, {hi:g}] {unit}, got {value!r}",
                          key=key)  # fmt: skip
+
+
+def zone_limits(
+    category: str,
+    zone: Zone,
+    vehicle: Any,
+    overrides: Mapping[str, tuple[float, str]] | None = None,
+) -> dict[str, Limit]:
+    """:func:`limits_for` with the zone's conditions and the vehicle's loads: the highest
+    section speed (``Q_max``'s cap), the sections' mean radius (``Y_qst``; curves only), ``Q0``
+    (:func:`.quantities.static_wheel_load_N`) and the bogie mass of the simplified method
+    (:func:`.quantities.bogie_mass_kg`); ``overrides`` as the programme's ``limits``."""
+    from railexu.assessment.acceptance.quantities import bogie_mass_kg, static_wheel_load_N
+
+    sections = zone.sections()
+    radii = [s.radius_m for s in sections if s.radius_m is not None]
+    return limits_for(
+        category,
+        static_wheel_load_N(vehicle),
+        speed_m_per_s=max(s.speed_m_per_s for s in sections),
+        mean_radius_m=sum(radii) / len(radii) if radii else None,
+        bogie_mass_kg=bogie_mass_kg(vehicle),
+        overrides=overrides,
+    )
