@@ -175,3 +175,27 @@ def test_a_zone_from_synthetic_sections_against_mean_plus_k_s():
     assert c.passed is True  # 60.96 kN <= 65.17 kN
     assert result.criteria["Y_qst"].value is None  # straight track: not evaluated
     assert result.criteria["Q_max"].limit == pytest.approx(Q0 + 90e3)  # 72 km/h: no cap
+
+
+def test_quasi_static_values_agree_with_the_curving_statistics(curve_values):
+    """Y_qst and Q_qst follow the rule of simulation/curving.py (50 % value of the outer wheel
+    in the constant-radius curve); the signals here pass the 20 Hz low pass unchanged but for a
+    10 Hz ripple whose median is zero, so both give the same values (1e-3)."""
+    from railexu.simulation.curving import curving_statistics
+    from railexu.track.alignment import alignment_from_sections
+
+    curve = {"type": "curve", "length_m": 1000.0, "curvature_1_per_m": 1 / 300, "cant_m": 0.15}
+    ts = _series()
+    zeros = np.zeros(T.size)
+    extra = {"cant_deficiency_m": np.full(T.size, 0.1)}
+    for i in (1, 2):
+        extra.update({f"ws{i}_s_m": X, f"ws{i}_yaw_rad": zeros, f"ws{i}_left_Tgamma_N": zeros,
+                      f"ws{i}_right_Tgamma_N": zeros})  # fmt: skip
+    ts = TimeSeries({**ts.columns, **extra})
+    stats = curving_statistics(ts, alignment_from_sections([curve]), ["ws1", "ws2"],
+                               window=(100.0, 300.0, "test"))  # fmt: skip
+    wheelsets = stats["curves"][0]["wheelsets"]
+    y_qst = max(w["Y_outer_N"]["quasi_static"] for w in wheelsets)
+    q_qst = max(w["Q_outer_N"]["quasi_static"] for w in wheelsets)
+    assert curve_values.values["Y_qst"] == pytest.approx(y_qst, rel=1e-3)
+    assert curve_values.values["Q_qst"] == pytest.approx(q_qst, rel=1e-9)
