@@ -117,7 +117,7 @@ def _exists(module: str) -> bool:
 
 def package_files() -> list[Path]:
     """The package's modules (not the shipped inputs linked into it)."""
-    linked = {"vehicles", "tracks", "studies"}
+    linked = {"vehicles", "tracks", "studies", "programmes"}
     return [
         p for p in sorted(PACKAGE.rglob("*.py")) if not linked & set(p.relative_to(PACKAGE).parts)
     ]
