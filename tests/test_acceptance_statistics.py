@@ -189,3 +189,18 @@ def test_a_quantity_no_section_has_is_reported_with_the_sections_reason():
     c = result.criteria["Y_qst"]
     assert c.value is None and c.passed is None and "straight track" in c.note
     assert result.passed is True  # judged on the criteria that could be evaluated
+
+
+def test_zone_limits_take_the_zone_conditions_and_flag_y_over_q_below_250_m():
+    from railexu.assessment.acceptance.limits import zone_limits
+
+    ws = SimpleNamespace(axle_load_N=200e3, mass_kg=1.5e3)
+    body = SimpleNamespace(name="body", mass_kg=40e3)
+    vehicle = SimpleNamespace(wheelsets=(ws,) * 4, bodies=(body,), total_mass_kg=80e3,
+                              gravity_m_per_s2=9.81)  # fmt: skip
+    zone = _zone("one_dimensional", 4, radius_m=(200.0, 400.0))
+    limits = zone_limits("coach", zone, vehicle)
+    # mean of the radii 200, 266.7, 333.3, 400 m is 300 m: 30 + 10500 / 300 = 65 kN
+    assert limits["Y_qst"].value == pytest.approx(65e3)
+    assert limits["Y_over_Q_2m"].assumption and "below 250 m" in limits["Y_over_Q_2m"].rule
+    assert "bogie_frame_acc_y_max" not in limits  # one body only: no bogie frame

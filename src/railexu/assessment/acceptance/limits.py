@@ -91,6 +91,8 @@ CAR_BODY_NAMES = (
 )
 #: Q_max caps by speed: (highest speed km/h, cap kN).
 Q_MAX_CAPS_KN = ((160.0, 200.0), (200.0, 190.0), (250.0, 180.0), (300.0, 170.0), (math.inf, 160.0))
+#: The derailment quotient's limit 0.8 holds for curves of at least this radius (m).
+Y_OVER_Q_MIN_RADIUS_M = 250.0
 #: Limit of the quasi-static wheel force Q_qst (kN).
 Q_QST_LIMIT_KN = 145.0
 
@@ -235,7 +237,7 @@ def zone_limits(
 
     sections = zone.sections()
     radii = [s.radius_m for s in sections if s.radius_m is not None]
-    return limits_for(
+    out = limits_for(
         category,
         static_wheel_load_N(vehicle),
         speed_m_per_s=max(s.speed_m_per_s for s in sections),
@@ -243,3 +245,9 @@ def zone_limits(
         bogie_mass_kg=bogie_mass_kg(vehicle),
         overrides=overrides,
     )
+    y_q = out["Y_over_Q_2m"]
+    if radii and min(radii) < Y_OVER_Q_MIN_RADIUS_M and not y_q.assumption:
+        out["Y_over_Q_2m"] = replace(y_q, assumption=True, rule=(
+            f"{y_q.rule}; the zone has radii below {Y_OVER_Q_MIN_RADIUS_M:g} m, where railexu "
+            "applies 0.8 as its assumption"))  # fmt: skip
+    return out

@@ -316,7 +316,7 @@ def load_programme(
     """Read and check a programme file (a path, or the name of a shipped programme).
 
     Args:
-        name_or_path: a file, or a name of ``programmes/`` (``railexu list``).
+        name_or_path: a file, or a name of ``programmes/`` (``shipped_names("programme")``).
         quick: the reduced variant: each zone's ``quick_sections`` (default: the method's
             statistical minimum) sections, marked ``reduced``; not an acceptance verdict.
         overrides: ``dotted.key=value`` items applied before the checks (``--set``).
