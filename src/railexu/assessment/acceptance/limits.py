@@ -190,6 +190,9 @@ def limits_for(
         out["bogie_frame_acc_y_rms"] = Limit(
             "bogie_frame_acc_y_rms", 0.5 * peak, "m/s^2", clause, f"(12 - m_b / 5) / 2, {rule}"
         )
+    if category not in CAR_BODY_LIMITS:
+        raise InputError(f"no car-body acceleration limits for the category {category!r} "
+                         f"(known: {', '.join(CAR_BODY_LIMITS)})", key="category")  # fmt: skip
     for name, value in zip(CAR_BODY_NAMES, CAR_BODY_LIMITS[category], strict=True):
         out[name] = Limit(
             name, value, "m/s^2",
