@@ -116,7 +116,7 @@ class TwistTestResult:
     twist_base_m: float
     radius_m: float | None
     direction: str
-    cant_start_m: float
+    max_cant_m: float
     speed_m_per_s: float
     window_m: tuple[float, float]
     status: dict
@@ -144,7 +144,7 @@ class TwistTestResult:
             "twist_base_m": self.twist_base_m,
             "radius_m": self.radius_m,
             "direction": self.direction,
-            "cant_start_m": self.cant_start_m,
+            "max_cant_m": self.max_cant_m,
             "speed_m_per_s": self.speed_m_per_s,
             "window_m": list(self.window_m),
             "status": dict(self.status),
@@ -161,11 +161,16 @@ def twist_track(
     direction: str = "left",
     start_m: float = 0.0,
     end_cant_m: float = 0.0,
+    entry_m: float = 0.0,
+    lead_m: float = 0.0,
     cant_base_m: float = CANT_BASE_M,
 ) -> Track:
     """A track of one curve (``radius_m``; None: straight) whose cant falls linearly by
     ``twist_per_mille`` mm per metre over ``ramp_length_m`` to ``end_cant_m`` at its end, then
-    stays there.
+    stays there. With ``entry_m`` > 0 a straight of ``lead_m`` and an entry transition of
+    ``entry_m`` (curvature and cant linear from 0, the cant rising at the ramp's gradient or
+    less) come before the ramp: a vehicle started on the straight runs into the curve (a
+    vehicle placed inside a small-radius curve starts far from its equilibrium there).
 
     The cant is signed like the curvature (a left curve's outer rail is the right one); on
     straight track ``direction`` says which rail the ramp lowers (left: the right rail).
@@ -190,9 +195,19 @@ def twist_track(
                          "the twist")  # fmt: skip
     kappa = 0.0 if radius_m is None else sign / radius_m
     tail = 50.0
-    d = np.array([0.0, ramp_length_m, ramp_length_m + tail])
+    d = [0.0, ramp_length_m, ramp_length_m + tail]
+    k = [kappa, kappa, kappa]
+    c = [cant, end_cant_m, end_cant_m]
+    if entry_m > 0.0:
+        if not (math.isfinite(entry_m) and math.isfinite(lead_m) and lead_m >= 0.0):
+            raise InputError("twist test: entry and lead lengths must be finite, lead >= 0")
+        d = [0.0, lead_m, lead_m + entry_m] + [lead_m + entry_m + v for v in d[1:]]
+        k = [0.0, 0.0] + k
+        c = [0.0, 0.0] + c
+        if lead_m == 0.0:
+            d, k, c = d[1:], k[1:], c[1:]
     alignment = alignment_from_samples(
-        d, np.full(3, kappa), sign * np.array([cant, end_cant_m, end_cant_m]), cant_base_m,
+        np.array(d), np.array(k), sign * np.array(c), cant_base_m,
         source="twist test track (railexu.assessment.acceptance.twist)",
     )  # fmt: skip
     where = "straight" if radius_m is None else f"R {radius_m:g} m {direction} curve"
@@ -251,33 +266,53 @@ def twist_test(
             raise InputError(f"twist test: {name} must be a positive finite number, got {value!r}")
     if speed_m_per_s > 5.0:
         raise InputError(f"twist test: {speed_m_per_s:g} m/s is not quasi-static: at most 5 m/s")
+    layout = _layout(vehicle, radius_m is not None, twist, settle_m, evaluate_m, centred)
+    track = twist_track(radius_m, twist, layout["ramp"], direction, start_m=layout["start"],
+                        end_cant_m=layout["end_cant"], entry_m=layout["entry"],
+                        lead_m=layout["lead"])  # fmt: skip
+    settings = RunSettings(speed_m_per_s=speed_m_per_s, distance_m=layout["window"][1],
+                           initial_lateral_m=0.0, time_step_s=time_step_s)  # fmt: skip
+    result = simulate(vehicle, track, settings, progress)
+    return _verdict(result, track, twist, base_m, radius_m, direction, speed_m_per_s,
+                    layout["window"], y_over_q_limit, unloading_limit)  # fmt: skip
+
+
+def _layout(vehicle: Vehicle, curved: bool, twist: float, settle_m: float, evaluate_m: float,
+            centred: bool) -> dict:  # fmt: skip
+    """Where the ramp lies and the vehicle starts, and the evaluation window (run distance).
+
+    The ramp holds every wheelset from ``RAMP_MARGIN_M`` after its start through the settling
+    distance and the window. On straight track the vehicle starts on it; in a curve it starts
+    on a straight lead and runs through an entry transition as long as the ramp (cant rising
+    at the ramp's gradient) into it."""
     xs = [w.position_x_m for w in vehicle.wheelsets]
     span = max(xs) - min(xs)
-    distance = settle_m + evaluate_m
-    # the rearmost wheelset starts RAMP_MARGIN_M into the ramp (start_m + 1 m: the track's rule)
-    start = RAMP_MARGIN_M - 1.0
-    ramp = RAMP_MARGIN_M + span + distance + RAMP_MARGIN_M
+    ramp = RAMP_MARGIN_M + span + settle_m + evaluate_m + RAMP_MARGIN_M
+    lead = span + 2.0 if curved else 0.0
+    entry = ramp if curved else 0.0
+    ramp_start = lead + entry
+    start = 0.0 if curved else RAMP_MARGIN_M - 1.0
+    # the rearmost wheelset is at start + 1 m at distance 0 (the track's `start` rule)
+    d0 = ramp_start + RAMP_MARGIN_M - (start + 1.0)
+    window = (d0 + settle_m, d0 + settle_m + evaluate_m)
     end_cant = 0.0
     if centred:  # zero cant under the vehicle's centre in the middle of the window
-        centre = RAMP_MARGIN_M + (0.5 * (max(xs) + min(xs)) - min(xs)) + settle_m + 0.5 * evaluate_m
-        end_cant = -twist * 1.0e-3 * (ramp - centre)
-    track = twist_track(radius_m, twist, ramp, direction, start_m=start, end_cant_m=end_cant)
-    settings = RunSettings(speed_m_per_s=speed_m_per_s, distance_m=distance, initial_lateral_m=0.0,
-                           time_step_s=time_step_s)  # fmt: skip
-    result = simulate(vehicle, track, settings, progress)
-    return _verdict(result, track, twist, base_m, radius_m, direction, speed_m_per_s, settle_m,
-                    y_over_q_limit, unloading_limit)  # fmt: skip
+        centre_s = start + 1.0 + 0.5 * (window[0] + window[1]) + 0.5 * span
+        end_cant = -twist * 1.0e-3 * (ramp - (centre_s - ramp_start))
+    return {"ramp": ramp, "lead": lead, "entry": entry, "start": start, "window": window,
+            "end_cant": end_cant}  # fmt: skip
 
 
 def _verdict(result: RunResult, track: Track, twist: float, base_m: float,
-             radius_m: float | None, direction: str, speed: float, settle_m: float,
-             y_lim: float, u_lim: float) -> TwistTestResult:  # fmt: skip
+             radius_m: float | None, direction: str, speed: float,
+             window: tuple[float, float], y_lim: float, u_lim: float) -> TwistTestResult:  # fmt: skip
     """Y/Q and wheel unloading over the evaluation window of a twist run."""
     ts = result.timeseries
     order = wheelset_order(result.vehicle)
     loads = result.model.statics.wheel_loads_N
     x = np.asarray(ts["distance_m"], dtype=float)
-    start, end = settle_m, float(x[-1]) if x.size else settle_m
+    start = window[0]
+    end = min(window[1], float(x[-1])) if x.size else start
     y_best: tuple[float | None, str | None] = (None, None)
     u_best: tuple[float | None, str | None] = (None, None)
     for k, i in enumerate(order, start=1):
@@ -291,12 +326,13 @@ def _verdict(result: RunResult, track: Track, twist: float, base_m: float,
     completed = result.status.get("state") in COMPLETED_STATES and end > start
     passed = bool(completed and y_best[0] is not None and u_best[0] is not None
                   and y_best[0] <= y_lim and u_best[0] <= u_lim)  # fmt: skip
-    cant = float(track.alignment.cant(0.0)) * (1.0 if direction == "left" else -1.0)
+    al = track.alignment
+    cant = float(np.max(np.abs(al.cant(np.linspace(0.0, al.end_m, 2001)))))
     return TwistTestResult(
         y_over_q=y_best[0], y_over_q_limit=y_lim, wheel=y_best[1],
         unloading=u_best[0], unloading_limit=u_lim, unloading_wheel=u_best[1],
         passed=passed, twist_per_mille=twist, twist_base_m=base_m, radius_m=radius_m,
-        direction=direction, cant_start_m=cant, speed_m_per_s=speed, window_m=(start, end),
+        direction=direction, max_cant_m=cant, speed_m_per_s=speed, window_m=(start, end),
         status=dict(result.status), run=result,
     )  # fmt: skip
 
