@@ -214,8 +214,10 @@ def twist_track(
     return Track(
         name=f"twist {twist_per_mille:g} per mille, {where}",
         geometry="measured",
-        description=f"{where}, cant ramp {cant * 1e3:.0f} mm -> {end_cant_m * 1e3:.0f} mm over "
-                    f"{ramp_length_m:g} m",
+        description=(
+            f"{where}, cant ramp {cant * 1e3:.0f} mm -> {end_cant_m * 1e3:.0f} mm over "
+            f"{ramp_length_m:g} m"
+        ),
         alignment=alignment,
         start_m=start_m,
     )
@@ -303,9 +305,18 @@ def _layout(vehicle: Vehicle, curved: bool, twist: float, settle_m: float, evalu
             "end_cant": end_cant}  # fmt: skip
 
 
-def _verdict(result: RunResult, track: Track, twist: float, base_m: float,
-             radius_m: float | None, direction: str, speed: float,
-             window: tuple[float, float], y_lim: float, u_lim: float) -> TwistTestResult:  # fmt: skip
+def _verdict(
+    result: RunResult,
+    track: Track,
+    twist: float,
+    base_m: float,
+    radius_m: float | None,
+    direction: str,
+    speed: float,
+    window: tuple[float, float],
+    y_lim: float,
+    u_lim: float,
+) -> TwistTestResult:
     """Y/Q and wheel unloading over the evaluation window of a twist run."""
     ts = result.timeseries
     order = wheelset_order(result.vehicle)

@@ -361,8 +361,8 @@ class _Rig:
             sign = 1.0 if lin.bodies[1] == self.gear else -1.0
             rel = q[11] if sign > 0 else -q[11]
             rel_t = qt[11] if sign > 0 else -qt[11]
-            m_b = float(static) - lin.stiffness_N_m_per_rad * rel - lin.damping_N_m_s_per_rad * rel_t
-            return sign * m_b
+            k, c = lin.stiffness_N_m_per_rad, lin.damping_N_m_s_per_rad
+            return sign * (float(static) - k * rel - c * rel_t)
         d, v, lever, sign = self._relative(lin, q, qt)
         f_b = (np.asarray(static) - np.asarray(lin.stiffness_N_per_m) * d
                - np.asarray(lin.damping_N_s_per_m) * v)  # fmt: skip
