@@ -260,6 +260,9 @@ def twist_test(
         InputError: absurd arguments.
     """
     base_m = vehicle_wheelbase_m(vehicle)
+    if twist_per_mille is None and base_m <= 0.0:
+        raise InputError(f"twist test: {vehicle.name} has no wheelbase (one wheelset): give "
+                         "twist_per_mille")  # fmt: skip
     twist = twist_limit_per_mille(base_m) if twist_per_mille is None else float(twist_per_mille)
     for name, value in (("speed_m_per_s", speed_m_per_s), ("settle_m", settle_m),
                         ("evaluate_m", evaluate_m), ("y_over_q_limit", y_over_q_limit),
