@@ -31,7 +31,7 @@ from railexu.assessment.acceptance.twist import (
 )
 from railexu.assessment.acceptance.yaw_resistance import yaw_resistance_test
 from railexu.errors import InputError
-from railexu.vehicle.parts import Friction
+from railexu.vehicle.parts import Damper, Friction
 from railexu.vehicle.vehicle import load_vehicle
 
 G = 9.81
@@ -207,6 +207,36 @@ def test_yaw_resistance_of_regularised_friction_follows_its_law():
     omega = 1 mrad/s and v_s = 1 mm/s the moment is 2 x 20 kN x 1.0 m x tanh(1) = 30.5 kN m."""
     result = yaw_resistance_test(_friction_bogie(None), angular_speed_rad_per_s=1.0e-3)
     assert result.max_moment_N_m == pytest.approx(40.0e3 * math.tanh(1.0), rel=1e-3)
+
+
+@pytest.mark.parametrize("series_stiffness", [None, 5.0e6], ids=["linear", "maxwell"])
+def test_yaw_resistance_of_yaw_dampers_is_their_viscous_moment(series_stiffness):
+    """Two longitudinal dampers of c = 200 kN s/m at +-1.0 m, alone (the secondary springs,
+    whose lateral stiffness adds k_y psi^3 b^2 at the second order, and the pivot removed),
+    turned at 1 mrad/s: M = 2 c omega b^2 cos^2(psi) = 400 N m, the same behind a bush of 5 MN/m
+    once its transient (c / k_s = 40 ms) is over. 0.2 %: cos^2(psi) is 0.9993 at the end of the turn."""
+    vehicle = _friction_bogie(10.0e6)
+    dampers = tuple(
+        Damper(f"yaw_damper_{side}", ("car_body", "bogie_1"), (3.95, y, 0.95), "x",
+               (-1.0, 1.0), (-200.0e3, 200.0e3), series_stiffness_N_per_m=series_stiffness,
+               damping_N_s_per_m=200.0e3)
+        for side, y in (("left", 1.0), ("right", -1.0))
+    )  # fmt: skip
+    plain = tuple(
+        el
+        for el in vehicle.suspension
+        if not isinstance(el, Friction) and not el.name.startswith("secondary_1")
+    )
+    vehicle = dataclasses.replace(vehicle, suspension=plain + dampers)
+    result = yaw_resistance_test(vehicle, angular_speed_rad_per_s=1.0e-3)
+    n = (result.angle_rad.size - 1) // 4
+    assert result.moment_N_m[n - 5 : n] == pytest.approx(400.0, rel=0.002)
+    assert result.moment_N_m[3 * n - 5 : 3 * n] == pytest.approx(-400.0, rel=0.002)
+    d = result.to_dict()
+    assert d["clause"].startswith("EN 14363:2016, 6.2") and d["limit"] == 0.1
+    assert d["elements"] == [*(el.name for el in plain if "bogie_1" in el.bodies
+                               and "car_body" in el.bodies), "yaw_damper_left",
+                             "yaw_damper_right"]  # fmt: skip
 
 
 def test_a_two_axle_wagon_turns_its_wheelset_in_its_links_and_guards():
