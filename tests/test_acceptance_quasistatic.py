@@ -213,8 +213,9 @@ def test_yaw_resistance_of_regularised_friction_follows_its_law():
 def test_yaw_resistance_of_yaw_dampers_is_their_viscous_moment(series_stiffness):
     """Two longitudinal dampers of c = 200 kN s/m at +-1.0 m, alone (the secondary springs,
     whose lateral stiffness adds k_y psi^3 b^2 at the second order, and the pivot removed),
-    turned at 1 mrad/s: M = 2 c omega b^2 cos^2(psi) = 400 N m, the same behind a bush of 5 MN/m
-    once its transient (c / k_s = 40 ms) is over. 0.2 %: cos^2(psi) is 0.9993 at the end of the turn."""
+    turned at 1 mrad/s: M = 2 c omega b^2 cos^2(psi) = 400 N m, the same behind a bush of
+    5 MN/m once its transient (c / k_s = 40 ms) is over. 0.2 %: cos^2(psi) is 0.9993 at the
+    end of the turn."""
     vehicle = _friction_bogie(10.0e6)
     dampers = tuple(
         Damper(f"yaw_damper_{side}", ("car_body", "bogie_1"), (3.95, y, 0.95), "x",
