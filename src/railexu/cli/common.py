@@ -40,6 +40,10 @@ class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter, argparse.RawDescript
         return super()._get_help_string(action)
 
 
+def _in(unit: str) -> str:
+    return "" if unit == "1" else f" in {unit}"
+
+
 def quantity(unit: str) -> Callable[[str], float]:
     """An argparse ``type`` for a value with a unit: ``"108 km/h"``, ``2km``, ``"2 mm"``; a bare
     number is SI (``unit``). Infinite or NaN values are refused."""
@@ -52,7 +56,7 @@ def quantity(unit: str) -> Callable[[str], float]:
             value = None
         if value is not None:
             if not math.isfinite(value):
-                raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
+                raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value{_in(unit)}")
             return value
         spaced = re.sub(r"^([-+]?[\d.]+(?:[eE][-+]?\d+)?)(?=[A-Za-z])", r"\1 ", text.strip())
         try:
@@ -60,11 +64,24 @@ def quantity(unit: str) -> Callable[[str], float]:
         except UnitError as exc:
             raise argparse.ArgumentTypeError(f"{exc} (a bare number is in {unit})") from None
         if not math.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
+            raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value{_in(unit)}")
         return value
 
     parse.__name__ = f"value in {unit}"
     return parse
+
+
+def check_within(
+    option: str, value: float, low: float, high: float, unit: str, why: str, *, low_open=False
+) -> float:
+    """``value`` of ``option`` if finite and within ``low .. high`` (``low < value`` with
+    ``low_open``), else a :class:`CliError` that states the range and ``why`` it is physical."""
+    inside = (low < value if low_open else low <= value) and value <= high
+    if not (math.isfinite(value) and inside):
+        bound = ">" if low_open else ">="
+        unit = f" {unit}" if unit else ""
+        raise CliError(f"{option} {value:g}: must be {bound} {low:g} and <= {high:g}{unit} ({why})")
+    return value
 
 
 _NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)")
