@@ -11,32 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from railexu.cli.common import CliError, check_within, quantity
+from railexu.cli.common import CliError, check_option, quantity
 from railexu.errors import ComputationError
-
-#: Ranges of the inputs: ``option: (low, high, unit, why)``; the low bound is excluded for
-#: quantities that must be positive (:data:`POSITIVE`). Stated in docs/cli.md.
-LIMITS = {
-    "--load": (0.0, 1.0e6, "N", "1 MN is 100 t on one wheel: a larger load is a unit mistake"),
-    "--semi-axes": (0.0, 0.1, "m", "wheel-rail contact ellipses are mm to a few cm across"),
-    "--curvatures": (0.0, 1.0e4, "1/m", "a curvature sum of 1e4 1/m is a 0.05 mm radius"),
-    "--xi": (-1.0, 1.0, "", "a creepage of 1 is a slip as fast as the rolling speed"),
-    "--eta": (-1.0, 1.0, "", "a creepage of 1 is a slip as fast as the rolling speed"),
-    "--spin": (-100.0, 100.0, "1/m", "sin(contact angle) / rolling radius is below 5 1/m on "
-               "real wheels; 100 1/m leaves room for yaw and small radii"),
-    "--friction": (0.0, 1.0, "", "the range of vehicle files; dry steel on steel is about 0.5"),
-    "--poisson": (0.0, 0.499, "", "the range of vehicle files; steel is 0.28-0.30"),
-    "--shear-modulus": (1.0e9, 1.0e12, "Pa", "the range of vehicle files; steel is 80-82 GPa"),
-    "--speed": (0.0, 150.0, "m/s", "Polach 2005's slip velocity needs a rolling speed; "
-                "150 m/s is the limit of a run's speed"),
-    "a/b": (0.1, 10.0, "", "the range of Kalker's coefficient table, which would clamp"),
-}  # fmt: skip
-POSITIVE = frozenset({"--load", "--semi-axes", "--curvatures", "--speed"})
-
-
-def _check(option: str, value: float) -> float:
-    low, high, unit, why = LIMITS[option]
-    return check_within(option, value, low, high, unit, why, low_open=option in POSITIVE)
 
 
 def _cell(value: float, width: int, decimals: int) -> str:
@@ -91,22 +67,22 @@ def command(args: argparse.Namespace) -> int:
     from railexu.contact.parameters import CREEP_MODELS, ContactParameters, creep_model_code
 
     for option in ("--load", "--xi", "--eta", "--spin", "--friction", "--poisson"):
-        _check(option, getattr(args, option[2:]))
-    _check("--shear-modulus", args.shear_modulus)
-    _check("--speed", args.speed)
+        check_option(option, getattr(args, option[2:]))
+    check_option("--shear-modulus", args.shear_modulus)
+    check_option("--speed", args.speed)
     params = ContactParameters(
         shear_modulus_Pa=args.shear_modulus, poisson=args.poisson, friction=args.friction
     )
     if (args.semi_axes is None) == (args.curvatures is None):
         raise CliError("give exactly one of --semi-axes A_M B_M or --curvatures A B")
     if args.semi_axes is not None:
-        a, b = (_check("--semi-axes", v) for v in args.semi_axes)
+        a, b = (check_option("--semi-axes", v) for v in args.semi_axes)
     else:
-        ca, cb = (_check("--curvatures", v) for v in args.curvatures)
+        ca, cb = (check_option("--curvatures", v) for v in args.curvatures)
         h = hertz_contact(ca, cb, args.load, params.effective_modulus_Pa)
         a, b = h.a_m, h.b_m
         print(f"Hertz: a = {a * 1e3:.4f} mm, b = {b * 1e3:.4f} mm, p0 = {h.p0_Pa / 1e6:.1f} MPa")
-    _check("a/b", a / b)
+    check_option("a/b", a / b)
     laws = CREEP_MODELS if args.creep == "all" else (CREEP_MODELS[creep_model_code(args.creep)],)
     g = params.shear_modulus_Pa
     c11, c22, c23 = kalker_coefficients(a / b, params.poisson)
