@@ -56,7 +56,8 @@ def start_workers_early(args: argparse.Namespace) -> None:
 
 
 def check_out(study_file: str, out: str) -> None:
-    """The study's ``--out`` folder: not the study file (nor any file), and writable (created if missing).
+    """The study's ``--out`` folder: not the study file (nor any file), and writable (created
+    if missing).
 
     Raises:
         CliError: naming ``--out`` and what is wrong (exit 2, before any case runs).
