@@ -479,7 +479,10 @@ def alignment_from_dict(
             file = Path(path) / file
         if not file.exists():
             top.fail(f"geometry file {str(file)!r} not found", key="file")
-        d, k, c = read_measured_geometry(file)
+        try:
+            d, k, c = read_measured_geometry(file)
+        except InputError as exc:  # the track file's line too, then the data file's
+            top.fail(str(exc), key="file")
         if np.any(np.abs(c) >= base):
             top.fail("a cant in the file is not smaller than the cant base", key="file")
         return alignment_from_samples(d, k, c, base, source)
