@@ -14,6 +14,7 @@ import math
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -316,3 +317,234 @@ def test_any_study_parameter_loads_or_gives_an_input_error(tmp_path_factory, par
         assert str(exc).startswith(str(path)), str(exc)
     else:
         assert 1 <= len(study.cases()) <= 10_000
+
+
+# -- issue 26, parts 4, 5, 7: every input of every command ----------------------------------------
+def _cli(argv: list[str], capsys) -> tuple[int, str]:
+    from railexu.cli import main
+
+    try:
+        status = main(argv)
+    except SystemExit as exc:  # argparse's own refusals (a value that is not a quantity)
+        status = exc.code
+    captured = capsys.readouterr()
+    return status, captured.out + captured.err
+
+
+CREEP = ["creep", "--load", "50 kN", "--semi-axes", "6 mm", "4 mm"]
+
+
+@pytest.mark.parametrize(
+    "extra, match",
+    [
+        (["--xi", "nan"], "expected a finite value"),
+        (["--eta", "inf"], "expected a finite value"),
+        (["--friction", "5"], "--friction 5: must be >= 0 and <= 1"),
+        (["--spin", "1e6"], "--spin 1e+06: must be >= -100 and <= 100 1/m"),
+        (["--speed", "0"], "--speed 0: must be > 0 and <= 150 m/s"),
+        (["--xi", "2"], "--xi 2: must be >= -1 and <= 1"),
+        (["--load", "1e9"], "--load 1e+09"),
+        (["--shear-modulus", "1"], "--shear-modulus 1"),
+    ],
+)
+def test_creep_absurd_options_are_refused(capsys, extra, match):
+    """On main these printed forces (NaN creepage -> 0 N, friction 5, spin 1e6 1/m)."""
+    status, text = _cli([*CREEP, *extra], capsys)
+    assert status == 2 and match in text and "Traceback" not in text, text
+
+
+def test_creep_semi_axes_of_a_kilometre_are_refused(capsys):
+    status, text = _cli(["creep", "--load", "50 kN", "--semi-axes", "1 km", "1 km"], capsys)
+    assert status == 2 and "--semi-axes 1000: must be > 0 and <= 0.1 m" in text, text
+
+
+def test_creep_wide_numbers_keep_their_columns(capsys):
+    """Kalker's linear law at xi = 0.9 with G = 1e12 Pa gives about 1e8 N: scientific notation,
+    one space at least between columns, so that ``split()`` reads every column."""
+    argv = [*CREEP, "--xi", "0.9", "--shear-modulus", "1e12", "--creep", "kalker_linear"]
+    status, text = _cli(argv, capsys)
+    line = next(ln for ln in text.splitlines() if ln.startswith("kalker_linear"))
+    assert status == 0 and len(line.split()) == 5, line
+    # Fx = -G a b c11 xi = -1e12 * 6e-3 * 4e-3 * c11 * 0.9 with c11(1.5, 0.28) = 4.724 (printed)
+    assert float(line.split()[1]) == pytest.approx(-1e12 * 6e-3 * 4e-3 * 4.7241 * 0.9, rel=1e-3)
+
+
+def test_contact_with_every_position_skipped_fails_clearly(tmp_path, capsys):
+    """Wheels 50-60 mm off centre are off their rails: exit 1 and one message, no results, no
+    raw RuntimeWarning (on main: exit 0 and Python's warnings)."""
+    import warnings
+
+    out = tmp_path / "c"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        status, text = _cli(
+            ["contact", "--lateral", "0.05:0.06:0.005", "--amplitudes", "0.003", "--out",
+             str(out)], capsys,
+        )  # fmt: skip
+    assert status == 1 and "every lateral position (3) was skipped" in text, text
+    assert "RuntimeWarning" not in text and not out.exists()
+
+
+@pytest.mark.parametrize(
+    "extra, match",
+    [
+        (["--gauge", "14.35 m"], "--gauge 14.35"),
+        (["--radius", "46"], "--radius 46"),
+        (["--friction", "nan"], "expected a finite value"),
+        (["--flange-back", "1.5", "--gauge", "1.435"], "less than --gauge"),
+    ],
+)
+def test_contact_absurd_options_are_refused(tmp_path, capsys, extra, match):
+    status, text = _cli(["contact", *extra, "--out", str(tmp_path / "c")], capsys)
+    assert status == 2 and match in text and "Traceback" not in text, text
+
+
+def test_critical_speed_options_take_units():
+    """On main ``--speed-max "200 km/h"`` was refused as an invalid float."""
+    import argparse
+
+    from railexu.cli import critical_speed
+
+    parser = argparse.ArgumentParser()
+    critical_speed.add_parser(parser.add_subparsers())
+    argv = ["critical-speed", "v.yaml", "--out", "o", "--speed-max", "200 km/h"]
+    args = parser.parse_args([*argv, "--threshold", "3 mm", "--distance", "0.3 km"])
+    assert args.speed_max == pytest.approx(200 / 3.6) and args.threshold == pytest.approx(3e-3)
+    assert args.distance == pytest.approx(300.0)
+
+
+def test_critical_speed_range_above_the_run_limit_is_refused():
+    from railexu.stability.settings import CriticalSpeedSettings
+
+    with pytest.raises(InputError, match="speed_max <= 150 m/s"):
+        CriticalSpeedSettings(speed_max_m_per_s=200.0)
+
+
+def test_speed_profile_above_the_run_speed_limit_is_refused():
+    from railexu.operation.speed_profile import SpeedProfile
+
+    with pytest.raises(InputError, match="point 2 .*<= 150 m/s"):
+        SpeedProfile(((0.0, 140.0), (2000.0, 160.0)))
+    SpeedProfile(((0.0, 140.0), (2000.0, 150.0)))  # the limit itself: accepted
+
+
+def test_a_run_beyond_the_end_of_the_geometry_is_refused_before_it_starts():
+    """curve_r300: 640 m of geometry. The rearmost wheelset starts 1 m beyond ``start``; the
+    single wheelset has no wheelbase: 1 + 600 m fits, 1 + 640 m and a start at 700 m do not."""
+    from railexu.simulation.preflight import check_run_within_track
+
+    vehicle = load_vehicle("wheelset")
+    track = load_track("curve_r300")
+    check_run_within_track(vehicle, track, RunSettings(distance_m=600.0))
+    with pytest.raises(InputError, match=r"to 641 m, beyond the end .* at 640 m; at most 639"):
+        check_run_within_track(vehicle, track, RunSettings(distance_m=640.0))
+    beyond = load_track("curve_r300", ["start=700 m"])
+    with pytest.raises(InputError, match="start: .* is beyond the end"):
+        check_run_within_track(vehicle, beyond, RunSettings(distance_m=10.0))
+    check_run_within_track(vehicle, load_track("straight"), RunSettings(distance_m=1e5))
+
+
+def test_vehicle_without_category_names_the_choices():
+    text = (ROOT / "vehicles" / "wheelset.yaml").read_text().replace("category: locomotive", "")
+    data, lines = parse_yaml(text, "w.yaml")
+    with pytest.raises(InputError, match="missing key 'category'.*locomotive, coach, multiple"):
+        vehicle_from_dict(data, "w.yaml", lines, ROOT / "vehicles")
+
+
+def test_every_shipped_vehicle_names_its_category():
+    for path in sorted((ROOT / "vehicles").glob("*.yaml")):
+        assert load_vehicle(path).category in ("locomotive", "coach", "multiple_unit", "wagon")
+
+
+def test_format_1_contact_keys_in_format_2_show_the_new_form():
+    text = (ROOT / "vehicles" / "wheelset.yaml").read_text() + "contact: {damping_model: linear}\n"
+    data, lines = parse_yaml(text, "w.yaml")
+    with pytest.raises(InputError, match=r"renamed key: write 'normal_damping: \{model: NAME"):
+        vehicle_from_dict(data, "w.yaml", lines, ROOT / "vehicles")
+
+
+def test_study_out_naming_the_study_file_or_an_impossible_place(tmp_path, capsys):
+    path = tmp_path / "s.yaml"
+    path.write_text(STUDY_HEAD + "    run.speed: [10 m/s]\n")
+    before = path.read_text()
+    status, text = _cli(["study", str(path), "--out", str(path)], capsys)
+    assert status == 2 and "is the study file itself" in text and "Traceback" not in text
+    assert path.read_text() == before
+    (tmp_path / "file").write_text("x")
+    status, text = _cli(["study", str(path), "--out", str(tmp_path / "file" / "sub")], capsys)
+    assert status == 2 and "cannot create the folder" in text and "Traceback" not in text, text
+
+
+# -- property-based: the newer formats ------------------------------------------------------------
+_TRACK_HEAD = "format_version: 1\nname: t\n"
+
+
+@_SETTINGS
+@given(st.sampled_from(["rail_mass", "lateral_stiffness", "lateral_damping", "vertical_stiffness",
+                        "vertical_damping", "nothing"]), _NASTY)  # fmt: skip
+def test_any_elastic_track_value_loads_or_gives_an_input_error(key, value):
+    text = _TRACK_HEAD + f"track_model:\n  type: elastic\n  {key}: {value}\n"
+    try:
+        data, lines = parse_yaml(text, "t.yaml")
+        track = track_from_dict(data, "t.yaml", lines, ROOT / "tracks")
+    except InputError as exc:
+        assert str(exc).startswith("t.yaml"), str(exc)
+    else:
+        model = track.elastic  # an unknown key ("nothing") is refused: elastic here
+        for name in ("lateral_stiffness_N_per_m", "vertical_stiffness_N_per_m"):
+            assert 1e6 <= getattr(model, name) <= 1e10
+
+
+_CELL = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["nan", "inf", "-inf", "", "x", "1e400", "0.02", "-0.02", "0.021", "1"]),
+)
+
+
+@_SETTINGS
+@given(st.lists(st.tuples(_CELL, _CELL, _CELL), min_size=0, max_size=6))
+def test_any_measured_geometry_loads_or_gives_an_input_error(tmp_path_factory, rows):
+    folder = tmp_path_factory.mktemp("geometry")
+    (folder / "g.csv").write_text("".join(f"{d},{k},{c}\n" for d, k, c in rows))
+    text = _TRACK_HEAD + "geometry: {type: measured, file: g.csv}\n"
+    try:
+        data, lines = parse_yaml(text, "t.yaml")
+        track = track_from_dict(data, "t.yaml", lines, folder)
+    except InputError as exc:
+        assert str(exc).startswith("t.yaml"), str(exc)
+    else:
+        k = track.alignment.k0
+        assert np.all(np.isfinite(k)) and np.all(np.abs(k) <= 1.0 / 50.0)
+
+
+@_SETTINGS
+@given(st.lists(st.tuples(_NASTY, _NASTY), min_size=0, max_size=4))
+def test_any_speed_profile_loads_or_gives_an_input_error(points):
+    table = ", ".join(f"[{s}, {v}]" for s, v in points)
+    text = f"run:\n  distance: 100 m\n  speed_profile: [{table}]\n"
+    try:
+        data, lines = parse_yaml(text, "s.yaml")
+        settings = run_settings_from_dict(data["run"], "s.yaml", lines, ("run",))
+    except InputError as exc:
+        assert str(exc).startswith("s.yaml"), str(exc)
+    else:
+        profile = settings.speed_profile
+        if profile is not None:
+            assert 0.0 < profile.max_speed_m_per_s <= 150.0
+
+
+_ELEMENT_PATHS = st.sampled_from([
+    "suspension.primary_ws*.stiffness.x", "suspension.primary_ws*.stiffness.z",
+    "suspension.primary_ws*.damping.z", "suspension.primary_ws*.points.0",
+    "suspension.primary_ws*.bodies.0", "suspension.primary_ws*.type",
+    "suspension.primary_ws*.bump_stop", "suspension.primary_ws*.deflection",
+])  # fmt: skip
+
+
+@_SETTINGS
+@given(_ELEMENT_PATHS, _NASTY)
+def test_any_suspension_element_value_loads_or_gives_an_input_error(path, value):
+    try:
+        load_vehicle(ROOT / "vehicles" / "eu07_bogie.yaml", [f"{path}={value}"])
+    except InputError as exc:
+        assert str(exc).startswith(("--set", str(ROOT / "vehicles"))), str(exc)

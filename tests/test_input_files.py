@@ -270,6 +270,7 @@ def test_format_version_1_is_read_as_version_2():
     v1 = """\
 format_version: 1
 name: w
+category: locomotive
 contact:
   creep_model: polach_2005
   polach_2005: {k_a: 0.5, k_s: 0.2, A: 0.3, B: 0.1 s/m}

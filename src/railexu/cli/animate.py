@@ -34,12 +34,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
         choices=("gif", "mp4"),
         help="gif (Pillow) or mp4 (needs imageio-ffmpeg: pip install 'railexu[animation]')",
     )
-    p.add_argument("--fps", type=float, default=20.0, help="frames per second")
+    p.add_argument("--fps", type=quantity("1/s"), default=20.0, help="frames per second")
     p.add_argument("--start", type=quantity("s"), help="start of the time window [s]")
     p.add_argument("--end", type=quantity("s"), help="end of the time window [s]")
     p.add_argument(
         "--playback",
-        type=float,
+        type=quantity("1"),
         default=1.0,
         help="simulated seconds per second of animation (0.25: four times slower)",
     )
@@ -48,13 +48,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--exaggeration",
-        type=float,
+        type=quantity("1"),
         default=50.0,
         help="factor on lateral motion and yaw in the plan view",
     )
     p.add_argument(
         "--force-scale",
-        type=float,
+        type=quantity("1"),
         metavar="MM_PER_KN",
         help="arrow length per force in the contact view [mm/kN] (default: the normal force "
         "of 95 %% of the frames at most 45 mm long)",

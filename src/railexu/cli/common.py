@@ -40,6 +40,10 @@ class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter, argparse.RawDescript
         return super()._get_help_string(action)
 
 
+def _in(unit: str) -> str:
+    return "" if unit == "1" else f" in {unit}"
+
+
 def quantity(unit: str) -> Callable[[str], float]:
     """An argparse ``type`` for a value with a unit: ``"108 km/h"``, ``2km``, ``"2 mm"``; a bare
     number is SI (``unit``). Infinite or NaN values are refused."""
@@ -52,7 +56,7 @@ def quantity(unit: str) -> Callable[[str], float]:
             value = None
         if value is not None:
             if not math.isfinite(value):
-                raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
+                raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value{_in(unit)}")
             return value
         spaced = re.sub(r"^([-+]?[\d.]+(?:[eE][-+]?\d+)?)(?=[A-Za-z])", r"\1 ", text.strip())
         try:
@@ -60,11 +64,55 @@ def quantity(unit: str) -> Callable[[str], float]:
         except UnitError as exc:
             raise argparse.ArgumentTypeError(f"{exc} (a bare number is in {unit})") from None
         if not math.isfinite(value):
-            raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value in {unit}")
+            raise argparse.ArgumentTypeError(f"{text!r}: expected a finite value{_in(unit)}")
         return value
 
     parse.__name__ = f"value in {unit}"
     return parse
+
+
+def check_within(
+    option: str, value: float, low: float, high: float, unit: str, why: str, *, low_open=False
+) -> float:
+    """``value`` of ``option`` if finite and within ``low .. high`` (``low < value`` with
+    ``low_open``), else a :class:`CliError` that states the range and ``why`` it is physical."""
+    inside = (low < value if low_open else low <= value) and value <= high
+    if not (math.isfinite(value) and inside):
+        bound = ">" if low_open else ">="
+        unit = f" {unit}" if unit else ""
+        raise CliError(f"{option} {value:g}: must be {bound} {low:g} and <= {high:g}{unit} ({why})")
+    return value
+
+
+#: Ranges of the quantity options of ``creep``, ``contact`` and others: ``option: (low, high,
+#: unit, why)``; the low bound is excluded for quantities that must be positive
+#: (:data:`POSITIVE`). Stated in docs/cli.md.
+LIMITS = {
+    "--load": (0.0, 1.0e6, "N", "1 MN is 100 t on one wheel: a larger load is a unit mistake"),
+    "--semi-axes": (0.0, 0.1, "m", "wheel-rail contact ellipses are mm to a few cm across"),
+    "--curvatures": (0.0, 1.0e4, "1/m", "a curvature sum of 1e4 1/m is a 0.05 mm radius"),
+    "--xi": (-1.0, 1.0, "", "a creepage of 1 is a slip as fast as the rolling speed"),
+    "--eta": (-1.0, 1.0, "", "a creepage of 1 is a slip as fast as the rolling speed"),
+    "--spin": (-100.0, 100.0, "1/m", "sin(contact angle) / rolling radius is below 5 1/m on "
+               "real wheels; 100 1/m leaves room for yaw and small radii"),
+    "--friction": (0.0, 1.0, "", "the range of vehicle files; dry steel on steel is about 0.5"),
+    "--poisson": (0.0, 0.499, "", "the range of vehicle files; steel is 0.28-0.30"),
+    "--shear-modulus": (1.0e9, 1.0e12, "Pa", "the range of vehicle files; steel is 80-82 GPa"),
+    "--speed": (0.0, 150.0, "m/s", "Polach 2005's slip velocity needs a rolling speed; "
+                "150 m/s is the limit of a run's speed"),
+    "--gauge": (0.5, 2.0, "m", "track gauges in use are 0.6 m to 1.676 m"),
+    "--flange-back": (0.4, 1.9, "m", "flange-back distances are about gauge - 75 mm"),
+    "--radius": (0.1, 1.0, "m", "rolling radii of rail vehicles are 0.18 m to 0.63 m"),
+    "--yaw-per-lateral": (-10.0, 10.0, "rad/m", "10 rad/m yaws the wheelset 0.1 rad at 10 mm"),
+    "a/b": (0.1, 10.0, "", "the range of Kalker's coefficient table, which would clamp"),
+}  # fmt: skip
+POSITIVE = frozenset({"--load", "--semi-axes", "--curvatures", "--speed"})
+
+
+def check_option(option: str, value: float) -> float:
+    """``value`` of ``option`` checked against :data:`LIMITS` (:func:`check_within`)."""
+    low, high, unit, why = LIMITS[option]
+    return check_within(option, value, low, high, unit, why, low_open=option in POSITIVE)
 
 
 _NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)")

@@ -5,8 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 
-from railexu.cli.common import CliError, parse_range, quantity
+from railexu.cli.common import CliError, check_option, parse_range, quantity
 from railexu.contact.standard_gauge import STANDARD_FLANGE_BACK_M, STANDARD_GAUGE_M
+from railexu.errors import ComputationError
 
 #: Largest sweep (lateral positions, amplitudes) the command accepts.
 MAX_SWEEP_POINTS = 10001
@@ -91,17 +92,20 @@ def add_parser(sub) -> argparse.ArgumentParser:
         "--lateral", default="0:0.010:0.0005", help="lateral displacements FROM:TO:STEP [m]"
     )
     p.add_argument(
-        "--yaw-per-lateral", type=float, default=0.0, help="yaw = factor x lateral [rad/m]"
+        "--yaw-per-lateral",
+        type=quantity("rad/m"),
+        default=0.0,
+        help="yaw = factor x lateral [rad/m]",
     )
     p.add_argument(
         "--load", type=quantity("N"), default=10000.0, help="vertical load per wheel [N]"
     )
     p.add_argument("--speed", type=quantity("m/s"), default=2.0, help="forward speed [m/s]")
-    p.add_argument("--friction", type=float, default=0.3, help="friction coefficient [-]")
+    p.add_argument("--friction", type=quantity("1"), default=0.3, help="friction coefficient [-]")
     p.add_argument(
         "--shear-modulus", type=quantity("Pa"), default=82e9, help="shear modulus G [Pa]"
     )
-    p.add_argument("--poisson", type=float, default=0.28, help="Poisson's ratio [-]")
+    p.add_argument("--poisson", type=quantity("1"), default=0.28, help="Poisson's ratio [-]")
     p.add_argument(
         "--creep",
         default="polach_fastsim",
@@ -117,10 +121,29 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
+def _check_options(args: argparse.Namespace) -> None:
+    """Every quantity option within its range (:data:`railexu.cli.common.LIMITS`)."""
+    for option in ("--gauge", "--flange-back", "--radius", "--yaw-per-lateral", "--load",
+                   "--speed", "--friction", "--poisson", "--shear-modulus"):  # fmt: skip
+        check_option(option, getattr(args, option[2:].replace("-", "_")))
+    for side in ("left", "right"):
+        radius = getattr(args, f"radius_{side}")
+        if radius is not None:
+            check_option("--radius", radius)
+    if not args.flange_back < args.gauge:
+        raise CliError(
+            f"--flange-back {args.flange_back:g} m: must be less than --gauge {args.gauge:g} m"
+        )
+
+
 def command(args: argparse.Namespace) -> int:
+    import warnings
+
     from railexu.contact.check import ContactCheckSettings, contact_check
     from railexu.contact.parameters import ContactParameters
     from railexu.report.contact_files import write_contact_check
+
+    _check_options(args)
 
     params = ContactParameters(
         shear_modulus_Pa=args.shear_modulus,
@@ -152,8 +175,17 @@ def command(args: argparse.Namespace) -> int:
         contact=params,
         conicity_amplitudes_m=amplitudes,
     )
-    result = contact_check(settings)
-    written = write_contact_check(result, args.out)
+    with warnings.catch_warnings():  # the skipped positions are reported below, once each
+        warnings.simplefilter("ignore", RuntimeWarning)
+        result = contact_check(settings)
+        if not result.pressed:
+            first_y, first = result.failures[0]
+            raise ComputationError(
+                f"every lateral position ({len(result.failures)}) was skipped, "
+                f"no results written; at {first_y * 1e3:.3f} mm: {first} (check the gauge, "
+                "flange-back distance, profiles and --lateral)"
+            )
+        written = write_contact_check(result, args.out)
     n_two = sum(
         1
         for p in result.pressed

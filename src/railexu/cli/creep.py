@@ -9,8 +9,16 @@ wheel (docs/conventions.md) of each law.
 from __future__ import annotations
 
 import argparse
+import math
 
-from railexu.cli.common import CliError, quantity
+from railexu.cli.common import CliError, check_option, quantity
+from railexu.errors import ComputationError
+
+
+def _cell(value: float, width: int, decimals: int) -> str:
+    """``value`` in ``width`` characters: fixed point, or scientific if that does not fit."""
+    text = f"{value:{width}.{decimals}f}"
+    return text if text.startswith(" ") else f"{value:{width}.3e}"
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -27,16 +35,23 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument("--load", type=quantity("N"), required=True, help="normal force Q [N]")
     p.add_argument("--semi-axes", nargs=2, type=quantity("m"), metavar=("A_M", "B_M"), default=None,
                    help="semi-axes a (rolling direction) and b [m]")  # fmt: skip
-    p.add_argument("--curvatures", nargs=2, type=float, metavar=("A", "B"), default=None,
-                   help="gap curvature sums A, B of A x^2 + B y^2 [1/m] (Hertz)")  # fmt: skip
-    p.add_argument("--xi", type=float, default=0.0, help="longitudinal creepage [-]")
-    p.add_argument("--eta", type=float, default=0.0, help="lateral creepage [-]")
+    p.add_argument(
+        "--curvatures",
+        nargs=2,
+        type=quantity("1/m"),
+        metavar=("A", "B"),
+        default=None,
+        help="gap curvature sums A, B of A x^2 + B y^2 [1/m] (Hertz)",
+    )
+    p.add_argument("--xi", type=quantity("1"), default=0.0, help="longitudinal creepage [-]")
+    p.add_argument("--eta", type=quantity("1"), default=0.0, help="lateral creepage [-]")
     p.add_argument("--spin", type=quantity("1/m"), default=0.0, help="spin creepage [1/m]")
-    p.add_argument("--friction", type=float, default=0.3, help="friction coefficient [-]")
+    p.add_argument("--friction", type=quantity("1"), default=0.3,
+                   help="friction coefficient [-]")  # fmt: skip
     p.add_argument(
         "--shear-modulus", type=quantity("Pa"), default=82e9, help="shear modulus G [Pa]"
     )
-    p.add_argument("--poisson", type=float, default=0.28, help="Poisson's ratio [-]")
+    p.add_argument("--poisson", type=quantity("1"), default=0.28, help="Poisson's ratio [-]")
     p.add_argument(
         "--speed", type=quantity("m/s"), default=10.0, help="speed [m/s] (polach_2005 only)"
     )
@@ -51,24 +66,23 @@ def command(args: argparse.Namespace) -> int:
     from railexu.contact.kalker import kalker_coefficients
     from railexu.contact.parameters import CREEP_MODELS, ContactParameters, creep_model_code
 
+    for option in ("--load", "--xi", "--eta", "--spin", "--friction", "--poisson"):
+        check_option(option, getattr(args, option[2:]))
+    check_option("--shear-modulus", args.shear_modulus)
+    check_option("--speed", args.speed)
     params = ContactParameters(
         shear_modulus_Pa=args.shear_modulus, poisson=args.poisson, friction=args.friction
     )
-    if not args.load > 0.0:
-        raise CliError(f"--load {args.load}: the normal force must be > 0 N")
     if (args.semi_axes is None) == (args.curvatures is None):
         raise CliError("give exactly one of --semi-axes A_M B_M or --curvatures A B")
     if args.semi_axes is not None:
-        a, b = args.semi_axes
-        if not (a > 0.0 and b > 0.0):
-            raise CliError(f"--semi-axes {a} {b}: both must be > 0 m")
+        a, b = (check_option("--semi-axes", v) for v in args.semi_axes)
     else:
-        ca, cb = args.curvatures
-        if not (ca > 0.0 and cb > 0.0):
-            raise CliError(f"--curvatures {ca} {cb}: both must be > 0 1/m")
+        ca, cb = (check_option("--curvatures", v) for v in args.curvatures)
         h = hertz_contact(ca, cb, args.load, params.effective_modulus_Pa)
         a, b = h.a_m, h.b_m
         print(f"Hertz: a = {a * 1e3:.4f} mm, b = {b * 1e3:.4f} mm, p0 = {h.p0_Pa / 1e6:.1f} MPa")
+    check_option("a/b", a / b)
     laws = CREEP_MODELS if args.creep == "all" else (CREEP_MODELS[creep_model_code(args.creep)],)
     g = params.shear_modulus_Pa
     c11, c22, c23 = kalker_coefficients(a / b, params.poisson)
@@ -88,5 +102,7 @@ def command(args: argparse.Namespace) -> int:
             law, args.xi, args.eta, args.spin, args.load, a, b, g, c11, c22, c23, params.friction
         )
         ratio = (fx * fx + fy * fy) ** 0.5 / mu_q if mu_q > 0.0 else float("nan")
-        print(f"{law:<16}{fx:12.1f}{fy:12.1f}{mz:12.3f}{ratio:10.3f}")
+        if not all(math.isfinite(v) for v in (fx, fy, mz)):
+            raise ComputationError(f"creep law {law}: no finite force for these inputs")
+        print(f"{law:<16}{_cell(fx, 12, 1)}{_cell(fy, 12, 1)}{_cell(mz, 12, 3)}{ratio:10.3f}")
     return 0

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from railexu.cli.common import split_overrides
+from railexu.cli.common import quantity, split_overrides
 
 
 def add_parser(sub) -> None:
@@ -22,12 +22,20 @@ def add_parser(sub) -> None:
     p.add_argument("vehicle", help="vehicle file (YAML)")
     p.add_argument("--track", help="track file (YAML); default: ideal straight track")
     p.add_argument("--methods", default="linear,bisection,ramp", help="comma-separated methods")
-    p.add_argument("--speed-min", type=float, default=5.0, help="lowest speed searched [m/s]")
-    p.add_argument("--speed-max", type=float, default=80.0, help="highest speed searched [m/s]")
-    p.add_argument("--tolerance", type=float, default=1.0, help="bisection bracket [m/s]")
-    p.add_argument("--threshold", type=float, default=0.003, help="hunting amplitude threshold [m]")
-    p.add_argument("--initial-lateral", type=float, default=0.004, help="lateral disturbance [m]")
-    p.add_argument("--distance", type=float, default=300.0, help="distance per run [m]")
+    p.add_argument(
+        "--speed-min", type=quantity("m/s"), default=5.0, help="lowest speed searched [m/s]"
+    )
+    p.add_argument(
+        "--speed-max", type=quantity("m/s"), default=80.0, help="highest speed searched [m/s]"
+    )
+    p.add_argument("--tolerance", type=quantity("m/s"), default=1.0, help="bisection bracket [m/s]")
+    p.add_argument(
+        "--threshold", type=quantity("m"), default=0.003, help="hunting amplitude threshold [m]"
+    )
+    p.add_argument(
+        "--initial-lateral", type=quantity("m"), default=0.004, help="lateral disturbance [m]"
+    )
+    p.add_argument("--distance", type=quantity("m"), default=300.0, help="distance per run [m]")
     p.add_argument("--linear-points", type=int, default=31, help="speeds of the linear analysis")
     p.add_argument(
         "--linearization",
@@ -35,7 +43,9 @@ def add_parser(sub) -> None:
         choices=("equivalent_conicity", "profiles"),
         help="linear contact: cones of the equivalent conicity, or the profiles' tangent",
     )
-    p.add_argument("--deceleration", type=float, default=0.5, help="ramp deceleration [m/s^2]")
+    p.add_argument(
+        "--deceleration", type=quantity("m/s^2"), default=0.5, help="ramp deceleration [m/s^2]"
+    )
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a value of the vehicle file")  # fmt: skip
     p.add_argument("--out", required=True, help="output folder")

@@ -8,6 +8,8 @@ import sys
 import warnings
 from pathlib import Path
 
+from railexu.cli.common import CliError
+
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Add the ``study`` sub-command to the ``railexu`` parser's sub-parsers; its function
@@ -53,6 +55,26 @@ def start_workers_early(args: argparse.Namespace) -> None:
         fork_server.start()
 
 
+def check_out(study_file: str, out: str) -> None:
+    """The study's ``--out`` folder: not the study file (nor any file), and writable (created
+    if missing).
+
+    Raises:
+        CliError: naming ``--out`` and what is wrong (exit 2, before any case runs).
+    """
+    target = Path(out).resolve()
+    if target == Path(study_file).resolve():
+        raise CliError(f"--out {out}: is the study file itself; give a folder for the results")
+    if target.exists() and not target.is_dir():
+        raise CliError(f"--out {out}: is a file; give a folder for the results")
+    try:  # created here, as the run would, so that a read-only place is refused before any case
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CliError(f"--out {out}: cannot create the folder: {exc.strerror}") from None
+    if not os.access(target, os.W_OK | os.X_OK):
+        raise CliError(f"--out {out}: the folder is not writable")
+
+
 def command(args: argparse.Namespace) -> int:
     start_workers_early(args)
     # imported here: `railexu run` and the other sub-commands do not load the study layer
@@ -64,6 +86,7 @@ def command(args: argparse.Namespace) -> int:
     from railexu.study.table import STATUSES, read_results
 
     study = load_study(args.study)
+    check_out(args.study, args.out)
     n = len(study.cases())
     err = sys.stderr
 

@@ -237,8 +237,17 @@ class _Builder:
 
     def _mapping(self, n: yaml.MappingNode, path: KeyPath) -> dict:
         explicit = set()
+        merges = 0
         for key_node, _ in n.value:
             if key_node.tag == "tag:yaml.org,2002:merge":
+                merges += 1
+                if merges > 1:  # YAML's merge spec allows one: later ones are silently dropped
+                    self.fail(
+                        "a second merge key (<<) in one mapping; merge several anchors with "
+                        "one key: '<<: [*a, *b]'",
+                        key_node,
+                        path,
+                    )
                 continue
             key = self._key(key_node, path)
             if key in explicit:

@@ -223,6 +223,8 @@ def _text(sec: Section, f: Field) -> str | None:
     choices = f.allowed_choices() or None
     if f.default is OPTIONAL and f.key not in sec.data:
         return None
+    if f.required and choices and f.key not in sec.data:
+        sec.fail(f"missing key {f.key!r} ({f.doc}): expected one of {', '.join(choices)}")
     default = None if f.default is REQUIRED else f.default
     return sec.string(f.key, default=default, choices=choices)
 

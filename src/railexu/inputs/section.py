@@ -23,6 +23,17 @@ def suggest(name: Any, choices: Sequence[Any]) -> str:
     return hint if hint.startswith(" Did you mean") else ""
 
 
+#: Keys of older formats, by their old name: (the new key, its new form). The error for an old
+#: key where the new one is allowed shows the new form (vehicle format 2, docs/vehicle-format.md).
+RENAMED_KEYS = {
+    "creep_model": ("creep", "'creep: {model: NAME}' (format 2; 'creep_model' was format 1)"),
+    "polach_2005": ("creep", "'creep: {model: polach_2005, k_a: ..., k_s: ..., A: ..., B: ...}' "
+                    "(format 2; the parameters nest under creep)"),
+    "damping_model": ("normal_damping", "'normal_damping: {model: NAME, coefficient: VALUE}' "
+                      "(format 2; 'damping_model' was format 1)"),
+}  # fmt: skip
+
+
 class Section:
     """One mapping of an input file, read with typed getters that report errors precisely.
 
@@ -51,6 +62,8 @@ class Section:
         if allowed is not None:
             for key in data:
                 if key not in allowed:
+                    if key in RENAMED_KEYS and RENAMED_KEYS[key][0] in allowed:
+                        self.fail(f"renamed key: write {RENAMED_KEYS[key][1]}", key=key)
                     self.fail(
                         f"unknown key.{suggest(key, allowed)} Allowed here: {', '.join(allowed)}",
                         key=key,

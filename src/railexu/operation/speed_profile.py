@@ -32,6 +32,9 @@ from railexu.errors import InputError
 #: rail (mu g = 0.4 x 9.81 = 3.9 m/s^2 with every axle braked), so no wheel-rail vehicle can
 #: follow it; a larger value is a unit mistake (km/h for m/s, km for m).
 MAX_ACCELERATION_M_PER_S2 = 5.0
+#: Highest speed a profile may ask for [m/s]: the same limit as a run's constant ``speed``
+#: (540 km/h, above every service speed; a larger value is usually km/h given as m/s).
+MAX_SPEED_M_PER_S = 150.0
 
 
 class SpeedProfileError(InputError):
@@ -64,6 +67,11 @@ class SpeedProfile:
                 raise SpeedProfileError(
                     f"point {i + 1} ({s:g} m): speed must be > 0 m/s, got {v:g} m/s (the "
                     "creepages are normalised by the speed: a profile cannot stop the vehicle)"
+                )
+            if v > MAX_SPEED_M_PER_S:
+                raise SpeedProfileError(
+                    f"point {i + 1} ({s:g} m): speed must be <= {MAX_SPEED_M_PER_S:g} m/s "
+                    f"(540 km/h, the limit of a run's speed), got {v:g} m/s: is a unit wrong?"
                 )
         if pts[0][0] != 0.0:
             raise SpeedProfileError(f"the first point must be at 0 m, got {pts[0][0]:g} m")

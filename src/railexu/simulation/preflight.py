@@ -215,3 +215,39 @@ def check_time_step_for_track(vehicle, track, settings) -> list[str]:
         "elastic track depend on the step even then; the hunting, the rail deflections and "
         "filtered forces do not (docs/curving.md)"
     ]
+
+
+#: Where the rearmost wheelset stands beyond the track's ``start`` [m] (docs/track-format.md).
+START_CLEARANCE_M = 1.0
+
+
+def check_run_within_track(vehicle, track, settings) -> None:
+    """Refuse, before any model is built, a run whose leading wheelset would leave the end of a
+    designed or measured geometry: beyond it railexu could only continue on the last tangent,
+    which is track the file does not describe. Straight track (no geometry) has no end.
+
+    Raises:
+        InputError: naming ``start`` or ``distance``, the end of the geometry and what fits.
+    """
+    alignment = getattr(track, "alignment", None)
+    if alignment is None or alignment.is_straight:
+        return
+    xs = [w.position_x_m for w in vehicle.wheelsets]
+    wheelbase_m = max(xs) - min(xs)
+    start_m = float(track.start_m)
+    end_m = float(alignment.end_m)
+    needed_m = start_m + START_CLEARANCE_M + wheelbase_m + float(settings.distance_m)
+    if start_m + START_CLEARANCE_M + wheelbase_m >= end_m:
+        raise InputError(
+            f"the vehicle ({wheelbase_m:.3g} m between its outer wheelsets) placed at "
+            f"{start_m:g} m is beyond the end of the track's geometry at {end_m:g} m",
+            source=str(track.source or "track"), key="start",
+        )  # fmt: skip
+    if needed_m > end_m + 1e-9:
+        fits_m = end_m - start_m - START_CLEARANCE_M - wheelbase_m
+        raise InputError(
+            f"{float(settings.distance_m):g} m from {start_m:g} m takes the leading wheelset to "
+            f"{needed_m:g} m, beyond the end of the track's geometry at {end_m:g} m; at most "
+            f"{fits_m:.4g} m fit (or lengthen the geometry)",
+            key="run.distance",
+        )

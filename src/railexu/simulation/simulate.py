@@ -30,7 +30,11 @@ from railexu.operation.run_settings import RunSettings as RunSettings
 from railexu.operation.run_settings import RunSettingsError as RunSettingsError
 from railexu.operation.run_settings import run_settings_from_dict as run_settings_from_dict
 from railexu.simulation.longitudinal import longitudinal_summary
-from railexu.simulation.preflight import check_initial_offset, check_time_step_for_track
+from railexu.simulation.preflight import (
+    check_initial_offset,
+    check_run_within_track,
+    check_time_step_for_track,
+)
 from railexu.simulation.recorder import CONTACT_FIELDS as CONTACT_FIELDS
 from railexu.simulation.recorder import POINT_FIELDS as POINT_FIELDS
 from railexu.simulation.recorder import Recorder
@@ -141,6 +145,7 @@ def simulate(
     settings = settings or RunSettings()
     track = track or ideal_straight_track()
     t_start = time.perf_counter()
+    check_run_within_track(vehicle, track, settings)
     warnings = check_initial_offset(vehicle, track, settings)
     warnings += check_time_step_for_track(vehicle, track, settings)
     model = VehicleModel(

@@ -58,8 +58,11 @@ class CriticalSpeedSettings:
             raise StabilityError(
                 f"linearization {self.linearization!r}: expected one of {', '.join(LINEARIZATIONS)}"
             )
-        if not 0.0 < self.speed_min_m_per_s < self.speed_max_m_per_s:
-            raise StabilityError("need 0 < speed_min < speed_max")
+        if not 0.0 < self.speed_min_m_per_s < self.speed_max_m_per_s <= 150.0:
+            raise StabilityError(
+                "need 0 < speed_min < speed_max <= 150 m/s (the limit of a run's speed), got "
+                f"{self.speed_min_m_per_s:g} and {self.speed_max_m_per_s:g} m/s"
+            )
         if not self.tolerance_m_per_s > 0.0:
             raise StabilityError("tolerance must be > 0 m/s")
         if not self.threshold_m > 0.0:

@@ -63,6 +63,14 @@ GEOMETRY_KEYS = {
     "sections": ("type", "sections", "cant_base"),
     "measured": ("type", "file", "cant_base"),
 }
+#: Smallest curve radius of a geometry, designed or measured [m]: below the tightest tram curves
+#: (about 15-25 m) railexu's vehicles do not go, and mainline curves stay above 150 m; 50 m
+#: (depots, sidings) is the lowest that the trajectory coordinates and the contact model cover.
+MIN_RADIUS_M = 50.0
+#: Largest cant as a fraction of the cant base (0.3 x 1.5 m = 450 mm, above the 180-200 mm
+#: that EN 13803 allows): more is a unit mistake.
+MAX_CANT_FRACTION = 0.3
+
 _GL_NODES, _GL_WEIGHTS = np.polynomial.legendre.leggauss(32)
 
 #: Columns of :meth:`Alignment.table` (what the compiled kernel interpolates).
@@ -416,11 +424,32 @@ def read_measured_geometry(path: str | Path) -> tuple[np.ndarray, np.ndarray, np
                     "expected three columns: distance [m], curvature [1/m], cant [m]",
                     source=str(path), line=lineno,
                 )  # fmt: skip
+            _check_measured_row(values, str(path), lineno)
             rows.append(values)
     data = np.array(rows)
     if data.shape[0] < 2 or np.any(np.diff(data[:, 0]) <= 0.0):
         raise InputError("needs at least two rows with increasing distance", source=str(path))
     return data[:, 0], data[:, 1], data[:, 2]
+
+
+def _check_measured_row(values: list[float], source: str, line: int) -> None:
+    """A measured geometry row: finite, curvature within 1 / :data:`MIN_RADIUS_M` (the designed
+    sections' limit), cant at most 0.3 m (the cant base is checked by the caller)."""
+    distance, curvature, cant = values
+    if not all(math.isfinite(v) for v in values):
+        raise InputError(f"expected finite numbers, got {values}", source=source, line=line)
+    if abs(curvature) > 1.0 / MIN_RADIUS_M:
+        raise InputError(
+            f"curvature {curvature:g} 1/m is a radius of {1.0 / abs(curvature):.3g} m, below the "
+            f"{MIN_RADIUS_M:g} m of railexu's geometries (docs/track-format.md)",
+            source=source, line=line,
+        )  # fmt: skip
+    if abs(distance) > 1.0e6 or abs(cant) > 0.5:
+        raise InputError(
+            f"distance {distance:g} m or cant {cant:g} m out of range (|distance| <= 1000 km, "
+            "|cant| <= 0.5 m): is a unit wrong?",
+            source=source, line=line,
+        )  # fmt: skip
 
 
 def alignment_from_dict(
@@ -450,7 +479,10 @@ def alignment_from_dict(
             file = Path(path) / file
         if not file.exists():
             top.fail(f"geometry file {str(file)!r} not found", key="file")
-        d, k, c = read_measured_geometry(file)
+        try:
+            d, k, c = read_measured_geometry(file)
+        except InputError as exc:  # the track file's line too, then the data file's
+            top.fail(str(exc), key="file")
         if np.any(np.abs(c) >= base):
             top.fail("a cant in the file is not smaller than the cant base", key="file")
         return alignment_from_samples(d, k, c, base, source)
@@ -476,8 +508,8 @@ def _section(item, j: int, source: str, lines: dict | None, base: float) -> dict
     if kind == "transition":
         out["shape"] = sec.string("shape", default="clothoid", choices=SHAPES)
     elif kind == "curve":
-        radius = sec.quantity("radius", "m", minimum=50.0)
-        cant = sec.quantity("cant", "m", default=0.0, minimum=0.0, maximum=0.3 * base)
+        radius = sec.quantity("radius", "m", minimum=MIN_RADIUS_M)
+        cant = sec.quantity("cant", "m", default=0.0, minimum=0.0, maximum=MAX_CANT_FRACTION * base)
         direction = sec.string("direction", choices=("left", "right"))
         sign = 1.0 if direction == "left" else -1.0
         out["curvature_1_per_m"] = sign / radius

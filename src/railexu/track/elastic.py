@@ -72,19 +72,11 @@ def track_model_from_dict(
         Section(data, source, lines, ("track_model",), ("type",))
         return None
     sec = Section(data, source, lines, ("track_model",), ELASTIC_KEYS)
-    d = ElasticTrack()
+    schema = TRACK_MODEL["elastic"]  # units, defaults and ranges (track/schema.py)
     return ElasticTrack(
-        rail_mass_kg=sec.quantity("rail_mass", "kg", default=d.rail_mass_kg, positive=True),
-        lateral_stiffness_N_per_m=sec.quantity(
-            "lateral_stiffness", "N/m", default=d.lateral_stiffness_N_per_m, positive=True
-        ),
-        lateral_damping_N_s_per_m=sec.quantity(
-            "lateral_damping", "N s/m", default=d.lateral_damping_N_s_per_m, minimum=0.0
-        ),
-        vertical_stiffness_N_per_m=sec.quantity(
-            "vertical_stiffness", "N/m", default=d.vertical_stiffness_N_per_m, positive=True
-        ),
-        vertical_damping_N_s_per_m=sec.quantity(
-            "vertical_damping", "N s/m", default=d.vertical_damping_N_s_per_m, minimum=0.0
-        ),
+        rail_mass_kg=schema.read(sec, "rail_mass"),
+        lateral_stiffness_N_per_m=schema.read(sec, "lateral_stiffness"),
+        lateral_damping_N_s_per_m=schema.read(sec, "lateral_damping"),
+        vertical_stiffness_N_per_m=schema.read(sec, "vertical_stiffness"),
+        vertical_damping_N_s_per_m=schema.read(sec, "vertical_damping"),
     )

@@ -84,6 +84,17 @@ GEOMETRY = {
         "Curvature and cant as track recording data give them.",
     ),
 }  # fmt: skip
+# Ranges of the elastic track (railexu's assumption, stated in docs/track-format.md): published
+# rail-to-ground point stiffnesses lie between about 10 MN/m (soft subgrade) and 300 MN/m (slab
+# track); below 1 MN/m a 100 kN wheel load would press a rail down 0.1 m, and above 10 GN/m the
+# rail is stiffer than the Hertzian wheel-rail contact (about 1 GN/m): use the rigid track, as
+# such a spring only forces a tiny time step. Dampings of 1e8 N s/m and masses of 5 t per wheel
+# are 1000 times the published values.
+MIN_TRACK_STIFFNESS_N_PER_M = 1.0e6
+MAX_TRACK_STIFFNESS_N_PER_M = 1.0e10
+MAX_TRACK_DAMPING_N_S_PER_M = 1.0e8
+MAX_RAIL_MASS_KG = 5000.0
+
 TRACK_MODEL = {
     "rigid": Schema("rigid", (), "Rigid rails (the default)."),
     "elastic": Schema(
@@ -92,26 +103,29 @@ TRACK_MODEL = {
             # 150 kg: between the kinetic-energy-equivalent vertical mass of the rail alone
             # (79 kg) and of rail and sleepers (166 kg) under the data of Zhai, Wang & Lin 2004
             Field("rail_mass", "co-running mass per rail and wheelset (rail and sleepers "
-                  "moving with it)", unit="kg", default=150.0, positive=True),
+                  "moving with it)", unit="kg", default=150.0, positive=True,
+                  maximum=MAX_RAIL_MASS_KG),
             # 32 MN/m, 80 kN s/m: the fastener of Huo & Dai (2019, Formulation of a linearized
             # model for vehicle-track interactions, Shock and Vibration 2019, 2015465, Table 2:
             # 15 MN/m, 50 kN s/m per fastener) on a 60 kg/m rail as a Winkler beam, seats 0.6 m
             # apart (tests/data/huo_dai2019_fastener.yaml; tests/test_elastic_track.py); a slab
             # track's: ballasted track is laterally softer
             Field("lateral_stiffness", "lateral stiffness of a rail to ground", unit="N/m",
-                  default=32.0e6, positive=True),
+                  default=32.0e6, minimum=MIN_TRACK_STIFFNESS_N_PER_M,
+                  maximum=MAX_TRACK_STIFFNESS_N_PER_M),
             Field("lateral_damping", "lateral damping of a rail to ground", unit="N s/m",
-                  default=8.0e4, minimum=0.0),
+                  default=8.0e4, minimum=0.0, maximum=MAX_TRACK_DAMPING_N_S_PER_M),
             # 81 MN/m: Winkler-beam point stiffness 2 s / beta of the ballasted track of Zhai,
             # Wang & Lin (2004, Modelling and experiment of railway ballast vibrations, J. Sound
             # Vib. 270, 673-683): pad, ballast and subgrade in series, sleepers 0.6 m apart
             # (tests/data/zhai2004_ballasted_track.yaml; tests/test_elastic_track.py)
             Field("vertical_stiffness", "vertical stiffness of a rail to ground (pad, ballast, "
-                  "subgrade)", unit="N/m", default=81.0e6, positive=True),
+                  "subgrade)", unit="N/m", default=81.0e6, minimum=MIN_TRACK_STIFFNESS_N_PER_M,
+                  maximum=MAX_TRACK_STIFFNESS_N_PER_M),
             # 110 kN s/m: the fastener's vertical damping of Huo & Dai (2019; 50 kN s/m per
             # fastener) over the vertical deflection shape of the Zhai track (108 kN s/m)
             Field("vertical_damping", "vertical damping of a rail to ground", unit="N s/m",
-                  default=1.1e5, minimum=0.0),
+                  default=1.1e5, minimum=0.0, maximum=MAX_TRACK_DAMPING_N_S_PER_M),
         ),
         "A co-running mass under each wheel with springs and dampers to ground; vertical "
         "stiffness from the ballasted track of Zhai, Wang & Lin (2004), lateral stiffness and "

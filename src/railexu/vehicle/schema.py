@@ -348,7 +348,7 @@ VEHICLE = Schema(
         Field("name", "short name", "text"),
         Field("description", "one paragraph", "text", default=""),
         Field("category", "EN 14363 category: the track-shifting limit's alpha depends on it",
-              "text", default="locomotive", choices=CATEGORIES),
+              "text", choices=CATEGORIES),
         Field("sources", "where the data come from", "text_list", default=()),
         Field("speed_body", "body held at the forward speed (default: the first body, or the "
               "first wheelset)", "text", default=OPTIONAL),
