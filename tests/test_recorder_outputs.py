@@ -57,11 +57,13 @@ def test_acceleration_at_the_centre_of_gravity_is_the_second_derivative_of_its_p
     bogie_run,
 ):
     """Kinematics, independent of the recorder's formula: the recorded lateral acceleration at
-    the centre of gravity equals the second difference of the recorded lateral position."""
+    the centre of gravity (an accelerometer's reading, docs/conventions.md) equals the second
+    difference of the recorded lateral position plus g times the recorded roll (the
+    accelerometer tilts with the body and reads that share of gravity)."""
     ts = bogie_run.timeseries
     t, y = ts.time_s, ts["bogie_1_lateral_m"]
     ok = t > 0.3  # after the start-up
-    y_dd = np.gradient(np.gradient(y, t), t)
+    y_dd = np.gradient(np.gradient(y, t), t) + 9.81 * np.sin(ts["bogie_1_roll_rel_track_rad"])
     a = ts["cg_acc_y_m_per_s2"]
     centre = ok & (t < t[-1] - 0.05)
     scale = np.max(np.abs(a[centre]))
