@@ -72,6 +72,16 @@ def test_acceleration_at_the_centre_of_gravity_is_the_second_derivative_of_its_p
     assert np.max(np.abs(y_dd[centre] - a[centre])) < 0.05 * scale
 
 
+def test_on_straight_track_the_quasi_static_readings_are_zero(bogie_run):
+    """An accelerometer on level straight track reads 0 on average (docs/conventions.md: the
+    vertical reading has 1 g removed): the bogie's oscillation from its 3 mm offset averages
+    out to within 0.01 m/s^2 (its amplitude is some 0.1-1 m/s^2)."""
+    ts = bogie_run.timeseries
+    ok = ts.time_s > 0.3
+    assert abs(float(np.mean(ts["cg_acc_z_m_per_s2"][ok]))) < 0.01
+    assert abs(float(np.mean(ts["cg_acc_y_m_per_s2"][ok]))) < 0.01
+
+
 def test_contact_points_carry_the_wheel_load(bogie_run):
     """Per wheel, the vertical components of the points' normal forces add up to the wheel
     load Q: within 2 % on the tread, where the creep forces' vertical share is below
