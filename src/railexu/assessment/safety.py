@@ -14,7 +14,12 @@ it:
   largest 2 m sliding mean of Y/Q of each wheel (a distance window, as Y/Q is assessed in
   EN 14363, so that a single impact sample does not count but a sustained climb does). The
   longest continuous stretch over which the instantaneous Y/Q exceeds Nadal's limit is reported
-  too. Nadal's value as a limit here is railexu's choice (EN 14363 uses 0.8).
+  too. Nadal's value as a limit here is railexu's choice (EN 14363 uses 0.8). A wheel without
+  a flange (a cone, a tread without a rim: its profile rises less than
+  :data:`MIN_FLANGE_HEIGHT_M` above the tape circle) has nothing to climb: the criterion is
+  reported as not applicable (value and limit None, ``applicable: false``), never as exceeded
+  against the meaningless Nadal value of its tread slope (negative when the slope is below the
+  friction angle).
 """
 
 from __future__ import annotations
@@ -32,6 +37,16 @@ FloatArray = NDArray[np.float64]
 
 #: Limit of the wheel unloading Delta Q / Q0 (twist-test value of EN 14363 / UIC 530-2).
 WHEEL_UNLOADING_LIMIT = 0.6
+#: A wheel profile has a flange when its highest point (the flange tip) is at least this far
+#: above the tape circle [m]. railexu's assumption: a flange is a rim of the order of 25-30 mm
+#: (S1002: 28 mm at the design point); a conical tread rises 1.75 mm over 70 mm at 1:40.
+MIN_FLANGE_HEIGHT_M = 0.010
+
+
+def has_flange(flange_height_m: float | None) -> bool:
+    """Whether a wheel with its flange tip ``flange_height_m`` above the tape circle [m] has
+    a flange (:data:`MIN_FLANGE_HEIGHT_M`); unknown (None) counts as a flange."""
+    return flange_height_m is None or flange_height_m >= MIN_FLANGE_HEIGHT_M
 
 
 def wheel_unloading_criterion(
@@ -94,11 +109,35 @@ def _longest_run(x: FloatArray, flag: FloatArray) -> tuple[float, float | None]:
     return best, at
 
 
+def flange_climb_not_applicable(flange_height_m: float) -> Criterion:
+    """The flange-climb criterion of a wheel without a flange: not applicable."""
+    return Criterion(
+        value=None,
+        limit=None,
+        unit="-",
+        window=f"{SAFETY_WINDOW_M:g} m sliding mean, {SAFETY_STEP_M:g} m steps",
+        rule=(
+            "railexu: flange climb applies to wheels with a flange (tip at least "
+            f"{MIN_FLANGE_HEIGHT_M * 1e3:g} mm above the tape circle)"
+        ),
+        details={
+            "applicable": False,
+            "flange_height_m": float(flange_height_m),
+            "note": (
+                f"not applicable: the wheel profile has no flange (its highest point is "
+                f"{flange_height_m * 1e3:.1f} mm above the tape circle, less than "
+                f"{MIN_FLANGE_HEIGHT_M * 1e3:g} mm)"
+            ),
+        },
+    )
+
+
 def flange_climb_criterion(
     x: FloatArray, y_over_q: Mapping[str, FloatArray], nadal: float, start: float, end: float
 ) -> Criterion:
     """Flange climb: the largest 2 m sliding mean of Y/Q (flanging wheel positive) over the
-    wheels against Nadal's limit ``nadal``; see the module docstring."""
+    wheels against Nadal's limit ``nadal``; see the module docstring (a wheel without a flange:
+    :func:`flange_climb_not_applicable`)."""
     best: tuple[float, str, float] | None = None
     longest: tuple[float, str | None, float | None] = (0.0, None, None)
     inside = (x >= start) & (x <= end)
@@ -123,6 +162,7 @@ def flange_climb_criterion(
             "Nadal's limit (tan g - mu)/(1 + mu tan g) for the flange angle g and friction mu"
         ),
         details={
+            "applicable": True,
             "longest_above_limit_m": longest[0],
             "longest_above_limit_wheel": longest[1],
             "longest_above_limit_from_m": longest[2],

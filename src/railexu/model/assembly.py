@@ -53,7 +53,7 @@ from railexu.model.forces import (
     jacobian,
 )
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
-from railexu.model.suspension_forces import kernel_arrays, kernel_elements
+from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
 from railexu.runtime.threads import contact_threads, use_threads
@@ -68,6 +68,9 @@ from railexu.vehicle.vehicle import (
     linear_part,
 )
 
+#: A suspension element's point on a wheelset more than this above or below the axle is on
+#: the wheelset's axlebox: its moment about the axle's centre passes into the axle [m].
+AXLE_HEIGHT_TOLERANCE_M = 1.0e-6
 #: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
 #: default) at t = 0 [m].
 START_MARGIN_M = 1.0
@@ -397,11 +400,27 @@ class VehicleModel:
                 ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate], d, turn
             )
 
-    def _local_point(self, body: str, p_vehicle) -> tuple[np.ndarray, np.ndarray]:
-        """(local position on the body, initial global position) of an attachment point."""
+    def _on_axlebox(self, body: str, p_vehicle) -> bool:
+        """Whether an element's point on ``body`` is on a wheelset's axlebox away from the axle:
+        the body is a wheelset and the declared height differs from its axle's (the nominal
+        radius) by more than :data:`AXLE_HEIGHT_TOLERANCE_M`."""
+        ws = next((w for w in self.vehicle.wheelsets if w.name == body), None)
+        if ws is None:
+            return False
+        return abs(float(p_vehicle[2]) - ws.nominal_radius_m) > AXLE_HEIGHT_TOLERANCE_M
+
+    def _local_point(
+        self, body: str, p_vehicle, axlebox: bool = False
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(local position on the body, initial global position) of an attachment point; with
+        ``axlebox`` a wheelset's point keeps its declared height above the axle, in the
+        wheelset's axes without spin (the second axis points down at rest: ``(0, -dz, y)``)."""
         veh = self.vehicle
         p = attachment_point(veh, body, p_vehicle)
-        if body in {w.name for w in veh.wheelsets}:
+        if axlebox:
+            dz = float(p_vehicle[2]) - veh.wheelset(body).nominal_radius_m
+            local = np.array([0.0, -dz, p[1]])
+        elif body in {w.name for w in veh.wheelsets}:
             local = np.array([0.0, 0.0, p[1]])  # on the axle (body z)
         else:
             local = np.array([p[0], p[1], p[2]]) - np.asarray(
@@ -415,23 +434,59 @@ class VehicleModel:
         elements (:mod:`railexu.model.suspension_forces`) are collected for the compiled force
         function, with one internal coordinate per series spring."""
         self.bump_stops: list[tuple] = []
+        self.bump_stop_axlebox: list[tuple[bool, bool]] = []
+        on_axlebox: list[SpringDamper] = []
         for el in self.vehicle.suspension:
             lin = linear_part(el)
-            if isinstance(lin, SpringDamper):
+            if isinstance(lin, SpringDamper) and self._element_on_axlebox(lin) != (False, False):
+                on_axlebox.append(lin)
+            elif isinstance(lin, SpringDamper):
                 self._add_spring_damper(lin)
             elif isinstance(lin, TorsionSpring):
                 self._add_torsion_spring(lin)
             elif isinstance(el, BumpStop):
                 a, b = el.bodies
-                la, ga = self._local_point(a, el.position_m)
-                lb, gb = self._local_point(b, el.position_m)
+                box = self._element_on_axlebox(el)
+                la, ga = self._local_point(a, el.position_m, box[0])
+                lb, gb = self._local_point(b, el.position_m, box[1])
                 axis = "xyz".index(el.direction)
                 self.bump_stops.append((a, b, la, lb, axis, el, float(gb[axis] - ga[axis])))
+                self.bump_stop_axlebox.append(box)
         try:
             self.kernel_elements = kernel_elements(self.vehicle, self.statics)
         except InputError as exc:
             raise ModelError(str(exc)) from exc
+        for lin in on_axlebox:
+            self.kernel_elements += self._axlebox_spring_damper(lin)
         self._add_internal_coordinates()
+
+    def _element_on_axlebox(self, el) -> tuple[bool, bool]:
+        """Whether the element's point on its first and on its second body is on a wheelset's
+        axlebox away from the axle."""
+        return tuple(self._on_axlebox(b, el.position_m) for b in el.bodies)
+
+    def _axlebox_spring_damper(self, el: SpringDamper) -> list[KernelElement]:
+        """A spring-damper with a point on a wheelset's axlebox away from the axle as compiled
+        linear elements, one per axis with stiffness or damping: the compiled force function
+        carries the moment of its force about the axle into the axle, as an axlebox does
+        (``docs/suspension.md``, "Elements at a wheelset"). Preloaded with its static force
+        like the connector (``F = k (d + d_s)``, ``d_s = -f_b / k``)."""
+        f_b = np.asarray(self.statics.element_forces[el.name], dtype=float)
+        out = []
+        for axis in range(3):
+            k = float(el.stiffness_N_per_m[axis])
+            c = float(el.damping_N_s_per_m[axis])
+            if k == 0.0 and c == 0.0:
+                continue
+            out.append(
+                KernelElement(
+                    f"{el.name}_axlebox_{'xyz'[axis]}", bodies=el.bodies,
+                    position_m=el.position_m, axis=axis, parallel_stiffness_N_per_m=k,
+                    parallel_damping_N_s_per_m=c,
+                    static_deflection_m=-f_b[axis] / k if k > 0.0 else 0.0,
+                )
+            )  # fmt: skip
+        return out
 
     def _add_internal_coordinates(self) -> None:
         """One Exudyn ``NodeGenericODE2`` with the internal coordinates of the series springs
@@ -460,14 +515,17 @@ class VehicleModel:
         """``(se_int, se_real, se_table)`` of the nonlinear elements for :class:`KernelData`;
         the internal coordinates follow the bodies' and the rail masses' coordinates."""
         local = {}
+        axlebox = {}
         for e in self.kernel_elements:
             a, b = e.bodies
-            la, ga = self._local_point(a, e.position_m)
-            lb, gb = self._local_point(b, e.position_m)
+            box = self._element_on_axlebox(e)
+            la, ga = self._local_point(a, e.position_m, box[0])
+            lb, gb = self._local_point(b, e.position_m, box[1])
             local[e.name] = ((la, lb), float(gb[e.axis] - ga[e.axis]))
+            axlebox[e.name] = box
         body_slot = {name: slot[node] for name, node in self.node.items() if node in slot}
         start = 6 * len(slot) + 4 * len(self.rail_node)
-        return kernel_arrays(self.kernel_elements, body_slot, local, start)
+        return kernel_arrays(self.kernel_elements, body_slot, local, start, axlebox)
 
     def _add_spring_damper(self, el: SpringDamper) -> None:
         from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper
@@ -688,7 +746,8 @@ class VehicleModel:
         bs_int = np.zeros((len(self.bump_stops), 4), dtype=np.int64)
         bs_real = np.zeros((len(self.bump_stops), BS_NREAL))
         for i, (a, b, la, lb, axis, el, d0) in enumerate(self.bump_stops):
-            bs_int[i] = [slot[self.node[a]], slot[self.node[b]], 0, 0]
+            box_a, box_b = self.bump_stop_axlebox[i]
+            bs_int[i] = [slot[self.node[a]], slot[self.node[b]], int(box_a), int(box_b)]
             bs_real[i, 0:3] = la
             bs_real[i, 3:6] = lb
             bs_real[i, 6] = axis

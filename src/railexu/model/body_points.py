@@ -78,3 +78,70 @@ def apply_axial_force(o, sgn, f, dr, r, q, qref, out):
     out[o + 3] += tx
     out[o + 4] += c0 * ty + s0 * tz
     out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
+
+
+@numba.njit(**_JIT)
+def axlebox_point_state(o, lx, ly, lz, q, qt, qref, p, v, r):
+    """Like :func:`point_state` for a point on a wheelset's axlebox: it follows the wheelset's
+    translation and its first two angles (roll and yaw of the axle) but not its spin, the last
+    angle (``A_box = Rx(theta0) Ry(theta1)``; ``l`` in the wheelset's axes, its third axis the
+    axle)."""
+    t0 = qref[o + 3] + q[o + 3]
+    t1 = qref[o + 4] + q[o + 4]
+    a00, a01, a02, a10, a11, a12, a20, a21, a22 = rotation(t0, t1, 0.0)
+    c0, s0 = math.cos(t0), math.sin(t0)
+    rx = a00 * lx + a01 * ly + a02 * lz
+    ry = a10 * lx + a11 * ly + a12 * lz
+    rz = a20 * lx + a21 * ly + a22 * lz
+    wx = qt[o + 3]
+    wy = c0 * qt[o + 4]
+    wz = s0 * qt[o + 4]
+    p[0] = qref[o] + q[o] + rx
+    p[1] = qref[o + 1] + q[o + 1] + ry
+    p[2] = qref[o + 2] + q[o + 2] + rz
+    v[0] = qt[o] + wy * rz - wz * ry
+    v[1] = qt[o + 1] + wz * rx - wx * rz
+    v[2] = qt[o + 2] + wx * ry - wy * rx
+    r[0] = rx
+    r[1] = ry
+    r[2] = rz
+
+
+@numba.njit(**_JIT)
+def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
+    """Add the force ``sgn f`` along axis ``dr`` at the axlebox point with lever ``r`` from the
+    centre of the wheelset at offset ``o``: the force and the moment ``r x F`` about the axes
+    across the axle pass into the axle (as its bearings do); the moment about the axle, which a
+    bearing cannot carry, goes to the axlebox's guide on the body at offset ``o_guide`` (the
+    other body of the element), so that the element's forces and moments balance exactly
+    (``docs/suspension.md``, "Elements at a wheelset")."""
+    fv0 = sgn * f if dr == 0 else 0.0
+    fv1 = sgn * f if dr == 1 else 0.0
+    fv2 = sgn * f if dr == 2 else 0.0
+    out[o] += fv0
+    out[o + 1] += fv1
+    out[o + 2] += fv2
+    tx = r[1] * fv2 - r[2] * fv1
+    ty = r[2] * fv0 - r[0] * fv2
+    tz = r[0] * fv1 - r[1] * fv0
+    t0 = qref[o + 3] + q[o + 3]
+    t1 = qref[o + 4] + q[o + 4]
+    c0, s0 = math.cos(t0), math.sin(t0)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    # the axle's direction (the wheelset's third axis, without its spin)
+    ex, ey, ez = s1, -s0 * c1, c0 * c1
+    m_axle = tx * ex + ty * ey + tz * ez
+    tx -= m_axle * ex
+    ty -= m_axle * ey
+    tz -= m_axle * ez
+    out[o + 3] += tx
+    out[o + 4] += c0 * ty + s0 * tz
+    # (the spin row, e . M, is zero by construction)
+    g0 = qref[o_guide + 3] + q[o_guide + 3]
+    g1 = qref[o_guide + 4] + q[o_guide + 4]
+    cg0, sg0 = math.cos(g0), math.sin(g0)
+    cg1, sg1 = math.cos(g1), math.sin(g1)
+    mx, my, mz = m_axle * ex, m_axle * ey, m_axle * ez
+    out[o_guide + 3] += mx
+    out[o_guide + 4] += cg0 * my + sg0 * mz
+    out[o_guide + 5] += sg1 * mx - sg0 * cg1 * my + cg0 * cg1 * mz

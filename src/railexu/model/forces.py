@@ -40,7 +40,13 @@ import numba
 import numpy as np
 
 from railexu.contact import kernel as K
-from railexu.model.body_points import apply_axial_force, point_state, rotation
+from railexu.model.body_points import (
+    apply_axial_force,
+    apply_axlebox_force,
+    axlebox_point_state,
+    point_state,
+    rotation,
+)
 from railexu.model.suspension_forces import suspension_forces, suspension_jacobian
 from railexu.track.alignment import (
     TAB_CANT,
@@ -118,7 +124,7 @@ class KernelData(NamedTuple):
     irr_step: float  # sample step [m]
     irr_values: np.ndarray  # rail offsets (n, 4): left dy, dz, right dy, dz [m]
     irr_slopes: np.ndarray  # their slopes along the track (n, 4)
-    bs_int: np.ndarray  # bump stops: integer rows (n_bs, 4)
+    bs_int: np.ndarray  # bump stops: integer rows (n_bs, 4): slots, axlebox flags of body 0, 1
     bs_real: np.ndarray  # bump stops: real rows (n_bs, BS_NREAL)
     curved: bool  # the track has curvature or cant somewhere (else the straight-track path)
     align_start: float  # design geometry samples: distance of the first [m]
@@ -544,8 +550,20 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
     ra = np.empty(3)
     rb = np.empty(3)
     p0, p1 = BS_P0, BS_P1
-    point_state(oa, bs_real[b, p0], bs_real[b, p0 + 1], bs_real[b, p0 + 2], q, qt, qref, pa, va, ra)
-    point_state(ob, bs_real[b, p1], bs_real[b, p1 + 1], bs_real[b, p1 + 2], q, qt, qref, pb, vb, rb)
+    box_a = bs_int[b, 2] == 1
+    box_b = bs_int[b, 3] == 1
+    if box_a:
+        axlebox_point_state(oa, bs_real[b, p0], bs_real[b, p0 + 1], bs_real[b, p0 + 2], q, qt,
+                            qref, pa, va, ra)  # fmt: skip
+    else:
+        point_state(oa, bs_real[b, p0], bs_real[b, p0 + 1], bs_real[b, p0 + 2], q, qt, qref,
+                    pa, va, ra)  # fmt: skip
+    if box_b:
+        axlebox_point_state(ob, bs_real[b, p1], bs_real[b, p1 + 1], bs_real[b, p1 + 2], q, qt,
+                            qref, pb, vb, rb)  # fmt: skip
+    else:
+        point_state(ob, bs_real[b, p1], bs_real[b, p1 + 1], bs_real[b, p1 + 2], q, qt, qref,
+                    pb, vb, rb)  # fmt: skip
     d = pb[dr] - pa[dr] - bs_real[b, BS_D0]
     clear = bs_real[b, BS_CLEAR]
     f = 0.0
@@ -558,8 +576,14 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
         if f < 0.0:
             f = 0.0
     if f != 0.0:
-        apply_axial_force(oa, -1.0, f, dr, ra, q, qref, out)
-        apply_axial_force(ob, 1.0, f, dr, rb, q, qref, out)
+        if box_a:
+            apply_axlebox_force(oa, ob, -1.0, f, dr, ra, q, qref, out)
+        else:
+            apply_axial_force(oa, -1.0, f, dr, ra, q, qref, out)
+        if box_b:
+            apply_axlebox_force(ob, oa, 1.0, f, dr, rb, q, qref, out)
+        else:
+            apply_axial_force(ob, 1.0, f, dr, rb, q, qref, out)
 
 
 @numba.njit(**_JIT)

@@ -52,9 +52,11 @@ def _skew(r: np.ndarray) -> np.ndarray:
 
 
 def attachment_point(vehicle: Vehicle, body: str, position: tuple[float, float, float]):
-    """Where an element acts on a body (vehicle axes): on a wheelset it acts on the axle (its
-    axlebox), whatever height and longitudinal position the file gives, so that the force never
-    turns with the spinning wheelset."""
+    """Where an element acts on a body (vehicle axes), for the statics: on a wheelset at the
+    axle's centre line (the axle's x and height, the given lateral position). At rest the
+    forces there are vertical, and the moment of a vertical force about the axle's centre does
+    not depend on the height; the dynamics place the point on the axlebox at the given height
+    and carry its moment into the axle (:mod:`railexu.model.assembly`, ``docs/suspension.md``)."""
     names = [w.name for w in vehicle.wheelsets]
     if body in names:
         ws = vehicle.wheelset(body)

@@ -52,7 +52,12 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 
-from railexu.model.body_points import apply_axial_force, point_state
+from railexu.model.body_points import (
+    apply_axial_force,
+    apply_axlebox_force,
+    axlebox_point_state,
+    point_state,
+)
 from railexu.model.characteristics import characteristic_table
 from railexu.vehicle.vehicle import (
     AirSpring,
@@ -86,7 +91,9 @@ SI_SPRING_N = 5  # its number of points
 SI_LAW = 6  # series law: 0 none, 1 table, 2 tanh friction
 SI_LAW_START = 7  # first row of the law's table
 SI_LAW_N = 8  # its number of points
-SI_NINT = 9
+SI_BOX0 = 9  # 1: the first body is a wheelset and the point is on its axlebox (off the axle)
+SI_BOX1 = 10  # 1: the same for the second body
+SI_NINT = 11
 
 LAW_NONE = 0
 LAW_TABLE = 1
@@ -160,8 +167,18 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     vb = np.empty(3)
     ra = np.empty(3)
     rb = np.empty(3)
-    point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref, pa, va, ra)
-    point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref, pb, vb, rb)
+    box_a = si[e, SI_BOX0] == 1
+    box_b = si[e, SI_BOX1] == 1
+    if box_a:
+        axlebox_point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref,
+                            pa, va, ra)  # fmt: skip
+    else:
+        point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref, pa, va, ra)
+    if box_b:
+        axlebox_point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref,
+                            pb, vb, rb)  # fmt: skip
+    else:
+        point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref, pb, vb, rb)
     d = pb[dr] - pa[dr] - sr[e, SR_D0]
     v = vb[dr] - va[dr]
     start = si[e, SI_SPRING_START]
@@ -184,8 +201,14 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     else:
         f += _law(e, si, sr, tab, v)
     if f != 0.0:
-        apply_axial_force(oa, 1.0, f, dr, ra, q, qref, out)
-        apply_axial_force(ob, -1.0, f, dr, rb, q, qref, out)
+        if box_a:
+            apply_axlebox_force(oa, ob, 1.0, f, dr, ra, q, qref, out)
+        else:
+            apply_axial_force(oa, 1.0, f, dr, ra, q, qref, out)
+        if box_b:
+            apply_axlebox_force(ob, oa, -1.0, f, dr, rb, q, qref, out)
+        else:
+            apply_axial_force(ob, -1.0, f, dr, rb, q, qref, out)
     return f
 
 
@@ -308,6 +331,7 @@ def kernel_arrays(
     slot: dict[str, int],
     local: dict[str, tuple[np.ndarray, np.ndarray]],
     internal_start: int,
+    axlebox: dict[str, tuple[bool, bool]] | None = None,
 ):
     """Pack kernel elements into ``(si, sr, tab)``.
 
@@ -317,6 +341,9 @@ def kernel_arrays(
         local: per element name, ``(local point on body 0, on body 1, nominal separation)`` as
             ``((la, lb), d0)``.
         internal_start: index of the first internal coordinate in the object's coordinates.
+        axlebox: per element name, whether its point on body 0 and on body 1 is on a
+            wheelset's axlebox away from the axle (its local point then in the wheelset's axes
+            without spin); none by default.
     """
     n = len(elements)
     si = np.full((n, SI_NINT), -1, dtype=np.int64)
@@ -329,6 +356,9 @@ def kernel_arrays(
         si[e, SI_SLOT0] = slot[el.bodies[0]]
         si[e, SI_SLOT1] = slot[el.bodies[1]]
         si[e, SI_DIR] = el.axis
+        box = (axlebox or {}).get(el.name, (False, False))
+        si[e, SI_BOX0] = int(box[0])
+        si[e, SI_BOX1] = int(box[1])
         sr[e, SR_P0 : SR_P0 + 3] = la
         sr[e, SR_P1 : SR_P1 + 3] = lb
         sr[e, SR_D0] = d0

@@ -33,7 +33,12 @@ from railexu.assessment.en14363 import (
 )
 from railexu.assessment.filters import dominant_frequency, lowpass
 from railexu.assessment.hunting import FINAL_FRACTION, detect_hunting
-from railexu.assessment.safety import flange_climb_criterion, wheel_unloading_criterion
+from railexu.assessment.safety import (
+    flange_climb_criterion,
+    flange_climb_not_applicable,
+    has_flange,
+    wheel_unloading_criterion,
+)
 from railexu.assessment.signals import amplitude, window_means, zero_crossing_wavelength
 from railexu.results.summary import (
     EvaluationWindow,
@@ -258,6 +263,7 @@ def summarize(
     track_irregular: bool | None = None,
     hunting_threshold_m: float = 1.0e-3,
     flange_contact_angle_rad: float = FLANGE_CONTACT_ANGLE_RAD,
+    flange_height_m: float | None = None,
 ) -> RunSummary:
     """Assess a run: every criterion of :class:`RunSummary` over the evaluation window.
 
@@ -282,6 +288,10 @@ def summarize(
             criterion decides hunting); None if unknown.
         hunting_threshold_m: amplitude above which an oscillation can count as hunting (m).
         flange_contact_angle_rad: contact angle above which a contact is a flange contact.
+        flange_height_m: height of the wheel's flange tip above its tape circle [m]; below
+            :data:`railexu.assessment.safety.MIN_FLANGE_HEIGHT_M` the wheel has no flange:
+            no Nadal limit and the flange-climb criterion not applicable (None: unknown, a
+            flange assumed).
 
     Raises:
         ResultsError: wheelset names or static axle loads do not match the wheelsets, or the
@@ -295,7 +305,8 @@ def summarize(
     run = _finite_run(ts, evaluate_from_m, evaluate_to_m)
     mean_axle_load = float(np.mean(static_axle_loads_N))
     min_load_N = MIN_LOAD_FRACTION * 0.5 * mean_axle_load
-    nadal = nadal_limit(flange_angle_rad, friction)
+    flanged = has_flange(flange_height_m)
+    nadal = nadal_limit(flange_angle_rad, friction) if flanged else None
     shift_limit = track_shifting_limit_N(mean_axle_load, alpha)
     q0 = {f"ws{i}_{s}": 0.5 * load for i, load in zip(indices, static_axle_loads_N, strict=True)
           for s in SIDES}  # fmt: skip
@@ -332,7 +343,11 @@ def summarize(
         sum_y=sum_y_criterion(x, sum_y, start, end, shift_limit, alpha, category),
         running_stability=stability,
         wheel_unloading=wheel_unloading_criterion(x, wheels.q, q0, start, end),
-        flange_climb=flange_climb_criterion(x, wheels.y_over_q, nadal, start, end),
+        flange_climb=(
+            flange_climb_criterion(x, wheels.y_over_q, nadal, start, end)
+            if flanged
+            else flange_climb_not_applicable(flange_height_m)
+        ),
         hunting=hunting,
         comfort=comfort,
         comfort_note=note,

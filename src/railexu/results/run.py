@@ -101,6 +101,7 @@ class AssessmentInputs:
     evaluate_to_m: float | None
     track_irregular: bool
     alignment: Alignment | None  # curved track only
+    flange_height_m: float | None = None  # flange tip above the tape circle (first wheel)
 
 
 def assessment_inputs(result: RunResult) -> AssessmentInputs:
@@ -118,7 +119,15 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         evaluate_to_m=settings.evaluate_to_m,
         track_irregular=result.track.irregularity.type != "none",
         alignment=model.alignment if model.curved else None,
+        flange_height_m=_flange_height_m(model),
     )
+
+
+def _flange_height_m(model) -> float:
+    """Height of the (first) wheel profile's highest point above its tape circle [m]: the
+    flange tip (S1002: 28 mm at the design point); a few millimetres for a cone."""
+    wheel = model.geometries[0].left.wheel
+    return float(np.max(wheel.height(np.linspace(wheel.y_min, wheel.y_max, 2001))))
 
 
 def summarize_run(
@@ -146,6 +155,7 @@ def summarize_run(
         evaluate_from_m=inputs.evaluate_from_m,
         evaluate_to_m=inputs.evaluate_to_m,
         track_irregular=inputs.track_irregular,
+        flange_height_m=inputs.flange_height_m,
     )
     state = summary.state_with_exceedances(status["state"])
     if state != status["state"]:

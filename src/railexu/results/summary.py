@@ -107,7 +107,7 @@ class RunSummary(Mapping):
     max_abs_lateral_force_N: float | None
     raw_y_over_q: Peak
     raw_y_over_q_2m: float | None
-    nadal_limit: float
+    nadal_limit: float | None  # None: the wheel has no flange
     y_over_q: Criterion
     raw_sum_y_N: float | None
     sum_y: Criterion

@@ -22,12 +22,14 @@ from railexu.contact import kernel as K
 from railexu.model.assembly import VehicleModel
 from railexu.model.forces import (
     FR_S,
+    FR_SIZE,
     WL_LATERAL,
     WL_ROLL,
     WL_S,
     WL_SIZE,
     WL_VERTICAL,
     WL_YAW,
+    frame_motion,
     track_position,
 )
 from railexu.model.record_row import ROW_OFF_TRACK, ROW_WHEEL_ROSE, derailment, keep_row
@@ -99,21 +101,83 @@ def contact_fields(points: np.ndarray) -> np.ndarray:
 
 
 def point_accelerations(qtt_body: np.ndarray, lever_m: np.ndarray) -> np.ndarray:
-    """Lateral and vertical accelerations [m/s^2] of points fixed to bodies, from the bodies'
-    coordinate accelerations ``(..., 6)``: ``(x, y, z, roll, pitch, yaw)``, one row per point,
-    and the points' lever arms ``(n, 3)`` from the centres of gravity (vehicle axes); returns
-    ``(..., 2)``.
+    """Lateral and vertical accelerations [m/s^2] of points fixed to bodies relative to the
+    vehicle frame (the track's frame in a curve), from the bodies' coordinate accelerations
+    ``(..., 6)``: ``(x, y, z, roll, pitch, yaw)``, one row per point, and the points' lever arms
+    ``(n, 3)`` from the centres of gravity (vehicle axes); returns ``(..., 2)``.
 
     Small rotations (the car body's angles stay below a few degrees): a = a_cg + alpha x r; the
     centripetal term omega x (omega x r) is of second order in the angular rates and left out.
-    Relative to the track (its frame in a curve): the quasi-static lateral acceleration of a
-    curve is not in it (the EN 12299 weightings remove it; ``docs/assessment.md``).
+    This is the kinematic part of :func:`accelerometer_readings` (what the time series records).
     """
+    return relative_point_accelerations(qtt_body, lever_m)[..., 1:]
+
+
+def relative_point_accelerations(qtt_body: np.ndarray, lever_m: np.ndarray) -> np.ndarray:
+    """Longitudinal, lateral and vertical accelerations ``(..., 3)`` [m/s^2] of body points
+    relative to the vehicle frame, as :func:`point_accelerations`."""
     a = qtt_body
     r = lever_m
+    a_x = a[..., 0] + a[..., 4] * r[..., 2] - a[..., 5] * r[..., 1]
     a_y = a[..., 1] + a[..., 5] * r[..., 0] - a[..., 3] * r[..., 2]
     a_z = a[..., 2] + a[..., 3] * r[..., 1] - a[..., 4] * r[..., 0]
-    return np.stack([a_y, a_z], axis=-1)
+    return np.stack([a_x, a_y, a_z], axis=-1)
+
+
+def accelerometer_readings(
+    qtt_body: np.ndarray,
+    lever_m: np.ndarray,
+    angles_rad: np.ndarray,
+    position_m: np.ndarray,
+    frame_motion_: np.ndarray,
+    gravity_m_per_s2: float,
+) -> np.ndarray:
+    """What an accelerometer fixed in a body reads, lateral and vertical ``(..., 2)`` [m/s^2]
+    (``docs/conventions.md``, "Accelerations"): the specific force ``f = a - g`` (absolute
+    acceleration minus gravity), in the body's own axes; the vertical reading minus ``g``, so
+    that it is 0 at rest on level track.
+
+    With the vehicle frame's origin acceleration ``a_O``, angular velocity ``Omega`` and
+    acceleration ``Omega'`` (:func:`railexu.model.forces.frame_motion`), a point at ``r`` from
+    the frame's origin has ``a = a_O + a_rel + Omega' x r + Omega x (Omega x r)`` (the Coriolis
+    term ``2 Omega x r'`` is left out: below 0.01 m/s^2 for a yaw rate of 0.05 rad/s and a
+    lateral velocity of 0.1 m/s); it is turned into the body's axes by ``A^T`` with
+    ``A = Rx(theta0) Ry(theta1) Rz(theta2)`` of the body's angles relative to the frame. At rest
+    on track canted by ``phi`` the lateral reading is ``-g sin(phi_total)`` with ``phi_total``
+    the body's total roll (cant plus its own roll); in a steady curve it is
+    ``V^2/R cos(phi) - g sin(phi)`` plus ``g`` times the body's roll relative to the track
+    (outwards positive), phi the magnitude of the cant angle.
+
+    Args:
+        qtt_body: the points' bodies' coordinate accelerations ``(..., 6)``.
+        lever_m: the points' levers from their bodies' centres ``(P, 3)`` (vehicle axes).
+        angles_rad: the bodies' angles relative to the frame ``(..., 3)``.
+        position_m: the points' positions relative to the frame's origin ``(..., 3)`` [m].
+        frame_motion_: the frame's motion ``(..., 12)`` of
+            :func:`railexu.model.forces.frame_motion` (zero on straight track).
+        gravity_m_per_s2: g.
+    """
+    fm = np.asarray(frame_motion_)[..., None, :]
+    a = relative_point_accelerations(qtt_body, lever_m)
+    omega, omega_dot = fm[..., 2:5], fm[..., 5:8]
+    r = position_m
+    a = a + np.cross(omega_dot, r) + np.cross(omega, np.cross(omega, r))
+    g = gravity_m_per_s2
+    # f = a - g_vec; the origin's acceleration (V' in the first coordinate already) and
+    # gravity (0, -g sin(phi), -g cos(phi)) in frame axes: fm[10] = -g sin(phi),
+    # fm[11] = g (1 - cos(phi))
+    f_x = a[..., 0]
+    f_y = a[..., 1] + fm[..., 8] - fm[..., 10]
+    f_z = a[..., 2] + fm[..., 9] - (fm[..., 11] - g)
+    t0, t1, t2 = angles_rad[..., 0], angles_rad[..., 1], angles_rad[..., 2]
+    c0, s0, c1, s1 = np.cos(t0), np.sin(t0), np.cos(t1), np.sin(t1)
+    c2, s2 = np.cos(t2), np.sin(t2)
+    # columns 2 and 3 of A = Rx Ry Rz: the body's lateral and vertical axes in frame axes
+    e_y = (-c1 * s2, c0 * c2 - s0 * s1 * s2, s0 * c2 + c0 * s1 * s2)
+    e_z = (s1, -s0 * c1, c0 * c1)
+    lateral = e_y[0] * f_x + e_y[1] * f_y + e_y[2] * f_z
+    vertical = e_z[0] * f_x + e_z[1] * f_y + e_z[2] * f_z - g
+    return np.stack([lateral, vertical], axis=-1)
 
 
 class Recorder:
@@ -146,9 +210,9 @@ class Recorder:
         self.body_names = [b.name for b in vehicle.bodies]
         n_ws = len(order)
         ltg = model.ltg
-        # node coordinates kept: the bodies' x, y, z (positions relative to the track); the
+        # node coordinates kept: the bodies' x, y, z and angles (relative to the frame); the
         # elastic track's rail coordinates; accelerations of the measurement points' bodies
-        self.i_body = np.array([ltg[n][:3] for n in self.body_names], dtype=int).reshape(-1, 3)
+        self.i_body = np.array([ltg[n][:6] for n in self.body_names], dtype=int).reshape(-1, 6)
         self.ref_body = np.array([model.centre[n] for n in self.body_names]).reshape(-1, 3)
         rails = [n for n in self.ws_names if n in model.rail_node]
         self.rail_names = rails
@@ -171,6 +235,8 @@ class Recorder:
         self.rail_q = np.zeros((n_out, self.i_rail.size))
         self.acc_q = np.zeros((n_out, self.i_acc.size))
         self.frame_s = np.zeros(n_out)
+        self.frame_state = np.zeros((n_out, FR_SIZE))
+        self.point_body = np.array([self.body_names.index(p.body) for p in points], dtype=np.int64)
         # derailment: the wheels' rise above their rails from the static state
         self.irregularity_centre = _IrregularityCentre(model)
         st = [model.initial_wheelsets[i] for i in order]
@@ -203,6 +269,7 @@ class Recorder:
             return ("diverged", t, "the state became NaN or infinite")
         self.time[k] = t
         self.frame_s[k] = model.kernel.frame[FR_S]
+        self.frame_state[k] = model.kernel.frame
         self.longitudinal.keep(k, q, qt, qtt)
         self.n = k + 1
         self.last_time = t
@@ -268,8 +335,13 @@ class Recorder:
                 cols[f"{w}_{side}_Q_N"] = q_wheel[:, i, s]
                 cols[f"{w}_{side}_n_contacts"] = n_contacts[:, i, s].astype(float)
                 cols[f"{w}_{side}_max_angle_rad"] = angle[:, i, s]
-        for name, values in zip(self.body_names, self._body_lateral().T, strict=True):
+        body_lateral, body_s = self._body_lateral()
+        for name, values in zip(self.body_names, body_lateral.T, strict=True):
             cols[f"{name}_lateral_m"] = values
+        frame = self._frame_motion()
+        roll = self._body_roll_rel_track(frame, body_s)
+        for name, values in zip(self.body_names, roll.T, strict=True):
+            cols[f"{name}_roll_rel_track_rad"] = values
         for i in range(len(self.ws_names)):
             cols[f"ws{i + 1}_s_m"] = s_ws[:, i]
         for i in range(len(self.ws_names)):
@@ -277,7 +349,7 @@ class Recorder:
                 cols[f"ws{i + 1}_{side}_Tgamma_N"] = tgamma[:, i, s]
         if self.settings.speed_varies:
             cols["speed_m_per_s"] = speed
-        acc = point_accelerations(self.acc_q[:n].reshape(n, -1, 6), self.lever)
+        acc = self._accelerometers(frame)
         for j, p in enumerate(self.vehicle.measurement_points):
             cols[f"{p.name}_acc_y_m_per_s2"] = acc[:, j, 0]
             cols[f"{p.name}_acc_z_m_per_s2"] = acc[:, j, 1]
@@ -310,13 +382,64 @@ class Recorder:
         full[..., _KEPT] = kept
         return full
 
-    def _body_lateral(self) -> np.ndarray:
-        """Lateral position of every body's centre relative to the track centre line at every
-        output time, ``(n, n_bodies)`` [m]."""
+    def _body_coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every body's centre (vehicle frame, first coordinate along the track) and angles
+        relative to the frame at every output time, ``(n, n_bodies, 3)`` each."""
         n = self.n
-        pos = self.ref_body + self.body_q[:n].reshape(n, -1, 3)
+        q = self.body_q[:n].reshape(n, -1, 6)
+        return self.ref_body + q[..., :3], q[..., 3:]
+
+    def _frame_motion(self) -> np.ndarray:
+        """The vehicle frame's motion (:func:`railexu.model.forces.frame_motion`) at every
+        output time ``(n, 12)``; zero on straight track."""
+        n = self.n
+        out = np.zeros((n, 12))
         if not self.model.curved:
-            return pos[..., 1] - self.irregularity_centre(pos[..., 0])
+            return out
+        data = self.model.kernel
+        saved = data.frame.copy()
+        try:
+            for k in range(n):
+                data.frame[:] = self.frame_state[k]
+                frame_motion(data, out[k])
+        finally:
+            data.frame[:] = saved
+        return out
+
+    def _body_roll_rel_track(self, frame: np.ndarray, body_s: np.ndarray) -> np.ndarray:
+        """Every body's roll relative to the design track's cant under its centre,
+        ``(n, n_bodies)`` [rad]: its angle about the frame's x axis plus the frame's roll minus
+        the track's cant angle at the body's foot point (small angles; positive: left side up,
+        ``docs/conventions.md``)."""
+        _, angles = self._body_coordinates()
+        roll = angles[..., 0] + frame[:, 1:2]
+        if self.model.curved:
+            roll = roll - np.asarray(self.model.alignment.cant_angle(body_s.ravel())).reshape(
+                body_s.shape
+            )
+        return roll
+
+    def _accelerometers(self, frame: np.ndarray) -> np.ndarray:
+        """The accelerometer readings ``(n, n_points, 2)`` of the measurement points
+        (:func:`accelerometer_readings`)."""
+        n = self.n
+        pos, angles = self._body_coordinates()
+        j = self.point_body
+        position = pos[:, j] + self.lever
+        position[..., 0] -= self.frame_s[:n, None]
+        return accelerometer_readings(
+            self.acc_q[:n].reshape(n, -1, 6), self.lever, angles[:, j], position, frame,
+            self.vehicle.gravity_m_per_s2,
+        )  # fmt: skip
+
+    def _body_lateral(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lateral position of every body's centre relative to the track centre line and the
+        distance along the track of its foot point at every output time, ``(n, n_bodies)``
+        each [m]."""
+        n = self.n
+        pos, _ = self._body_coordinates()
+        if not self.model.curved:
+            return pos[..., 1] - self.irregularity_centre(pos[..., 0]), pos[..., 0]
         # in the canted plane of the track at the foot point, as the wheelsets' lateral
         data = self.model.kernel
         saved = data.frame.copy()
@@ -331,7 +454,7 @@ class Recorder:
             data.frame[:] = saved
         s, lateral, height = foot[..., 0], foot[..., 1], foot[..., 2]
         cant = np.asarray(self.model.alignment.cant_angle(s.ravel())).reshape(s.shape)
-        return np.cos(cant) * lateral + np.sin(cant) * height - self.irregularity_centre(s)
+        return np.cos(cant) * lateral + np.sin(cant) * height - self.irregularity_centre(s), s
 
 
 class _IrregularityCentre:
@@ -350,4 +473,11 @@ class _IrregularityCentre:
         return np.interp(x, self.x, self.centre, left=0.0, right=0.0)
 
 
-__all__ = ["CONTACT_FIELDS", "POINT_FIELDS", "Recorder", "contact_fields", "point_accelerations"]
+__all__ = [
+    "CONTACT_FIELDS",
+    "POINT_FIELDS",
+    "Recorder",
+    "accelerometer_readings",
+    "contact_fields",
+    "point_accelerations",
+]

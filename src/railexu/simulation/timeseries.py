@@ -16,8 +16,11 @@ of travel; SI units, suffix = unit):
   ``spin_1_per_m``, ``Fx_N``, ``Fy_N``, ``N_N``, ``Tgamma_N``;
 - accelerations at measurement points on bodies, when recorded: ``{point}_acc_y_m_per_s2``
   (lateral) and ``{point}_acc_z_m_per_s2`` (vertical), e.g. ``body_front``, ``body_centre``,
-  ``body_rear``;
-- other bodies: ``{name}_lateral_m`` (``bogie_1_lateral_m``, ``car_body_lateral_m``, ...).
+  ``body_rear``: what an accelerometer fixed in the body reads (specific force in the body's
+  axes, the vertical less g; ``docs/conventions.md``);
+- other bodies: ``{name}_lateral_m`` (``bogie_1_lateral_m``, ``car_body_lateral_m``, ...) and
+  ``{name}_roll_rel_track_rad`` (roll relative to the design track's cant, left side up
+  positive).
 """
 
 from __future__ import annotations
