@@ -44,11 +44,11 @@ def command(args: argparse.Namespace) -> int:
         written = plot_study(folder)
         print(f"railexu plot: wrote {len(written)} study plots to {folder}")
         return 0
+    # an incomplete or damaged folder is refused (railexu.report.folder_check)
+    check_output_folder(folder, "run", ("timeseries.csv",))
     ts_path = folder / "timeseries.csv"
     if not ts_path.exists():
         raise CliError(f"{folder}: no timeseries.csv (not an output folder of railexu run)")
-    # an incomplete or damaged folder is refused (railexu.report.folder_check)
-    check_output_folder(folder, "run", ("timeseries.csv",))
     ts = TimeSeries.from_csv(ts_path)
     summary = read_run_summary(folder) if (folder / "summary.json").exists() else None
     title = ""

@@ -38,6 +38,7 @@ MANIFEST = ".railexu-files.json"
 LOCK_FILE = ".railexu.lock"
 #: the temporary names of :func:`atomic_path` (and of a study's ``.NAME.tmp``)
 _TEMPORARY = re.compile(r"^\..+\.(\d+\.)?tmp(\.[^.]+)?$")
+_TEMPORARY_NAME = re.compile(r"^\.(.+)\.\d+\.tmp(\.[^.]+)?$")  # -> the name and suffix
 # files that mark the output of each kind of job, to refuse writing one kind over another
 _MARKERS = {
     "run": ("summary.json", "timeseries.csv"),
@@ -233,7 +234,11 @@ def writing_errors(folder: OutputFolder) -> Iterator[None]:
     try:
         yield
     except OSError as exc:
-        where = exc.filename or folder.path
+        where = folder.path
+        if exc.filename:  # the file, not its temporary name
+            name = Path(exc.filename).name
+            real = _TEMPORARY_NAME.match(name)
+            where = Path(exc.filename).with_name("".join(real.groups(""))) if real else name
         raise InputError(
             f"cannot write {where}: {exc.strerror or exc}; {folder.path} is marked incomplete",
             key=folder.option,
