@@ -231,6 +231,9 @@ def test_a_damaged_run_folder_is_refused_naming_the_file(
         _damage(out, name, json.dumps(summary))
     else:
         _damage(out, name, data)
+    if name in (MANIFEST, "timeseries.csv"):  # found by the folder's check itself
+        with pytest.raises(DamagedFolderError, match=what):
+            check_output_folder(out, "run", ("timeseries.csv",))
     commands = {c[0]: c for c in READERS}
     for reader in readers:
         assert main([*commands[reader], str(out)]) == 2, reader
@@ -351,9 +354,7 @@ def test_railexu_run_killed_while_writing(complete, tmp_path, capsys, sig, in_fi
     refused by the readers. (On main: SIGTERM exited with 143 beside a summary that said
     completed, and a forked writer could outlive the command.)"""
     out = _copy(complete, tmp_path / "run")
-    code = _KILLED_RUN.format(
-        signal=sig, in_figure=in_figure, vehicle=str(WHEELSET), out=str(out)
-    )
+    code = _KILLED_RUN.format(signal=sig, in_figure=in_figure, vehicle=str(WHEELSET), out=str(out))
     proc = subprocess.Popen(
         [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         start_new_session=True,
