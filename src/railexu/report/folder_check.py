@@ -22,6 +22,7 @@ as it is; a manifest without ``complete`` (railexu before issue 26) is checked f
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 from pathlib import Path
@@ -146,8 +147,8 @@ def _being_written(folder: Path) -> bool:
         return False
     try:
         fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-    except OSError:
-        return True
+    except OSError as exc:  # held by another process; anything else (no locks here): not known
+        return exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN)
     else:
         with contextlib.suppress(OSError):
             fcntl.flock(fd, fcntl.LOCK_UN)
