@@ -368,3 +368,38 @@ def test_railexu_run_killed_while_writing(complete, tmp_path, capsys, sig, in_fi
         _no_temporary_files(out)
     assert _manifest(out)["complete"] is False
     _refused(out, capsys, "incomplete")
+
+
+def test_railexu_run_terminated_while_integrating_writes_a_complete_folder(tmp_path, capsys):
+    """SIGTERM during the integration: the run stops as interrupted, keeps its results and
+    writes them; that folder is complete (it holds what its summary says: an interrupted run)
+    and the readers accept it."""
+    import re
+
+    out = tmp_path / "run"
+    args = ["railexu", "run", str(WHEELSET), "--distance", "1000", "--out", str(out)]
+    code = f"import sys\nfrom railexu.cli import entry_point\nsys.argv = {args!r}\nentry_point()\n"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        start_new_session=True,
+    )  # fmt: skip
+    progress = b""
+    deadline = time.monotonic() + 300.0
+    while time.monotonic() < deadline:
+        chunk = proc.stderr.read1(4096)
+        if not chunk:
+            break
+        progress += chunk
+        done = [float(m) for m in re.findall(rb"(\d+\.\d) / 1000\.0 m", progress)]
+        if done and done[-1] > 2.0:
+            proc.send_signal(signal.SIGTERM)
+            break
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 1, (progress + stderr).decode()[-3000:]
+    assert _group_gone(proc.pid, 10.0)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"]["state"] == "interrupted"
+    assert 2.0 < summary["status"]["distance_m"] < 1000.0
+    assert _manifest(out)["complete"] is True
+    _no_temporary_files(out)
+    assert main(["report", str(out), "--quiet"]) == 0

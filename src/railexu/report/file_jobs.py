@@ -187,25 +187,33 @@ def _may_fork() -> bool:
 
 def _fork_writer(share: list[FileJob]) -> int | None:
     """Fork a process that writes ``share`` and exits with 0 if every job succeeded; its pid,
-    or None when the fork failed."""
+    or None when the fork failed. SIGINT and SIGTERM wait while the process forks (one that
+    arrived during the fork's own handlers would be lost: Python ignores an exception there)."""
     # what is buffered now would otherwise be written again by the child
     sys.stdout.flush()
     sys.stderr.flush()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
     try:
         pid = os.fork()
     except OSError:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         return None
     if pid == 0:  # the child's only job is its files; its errors are reported by its status
         status = 1
         try:
             _stop_with_parent()
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
             run_serially_in_this_process()  # a forked child cannot start GNU OpenMP's threads
             status = 0 if all([_write(job) for job in share]) else 1
             sys.stdout.flush()
             sys.stderr.flush()
         finally:
             os._exit(status)
+    signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a signal that came meanwhile acts now
     return pid
+
+
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 def _write(job: FileJob) -> bool:
