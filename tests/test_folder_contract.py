@@ -274,7 +274,7 @@ vary:
 )
 def test_a_garbage_results_table_is_refused_by_report_and_resume(tmp_path, capsys, table):
     """A study's results.csv that is not text, or has a damaged row in its middle (not a last
-    line cut by an interrupted write, which resume repairs): report and resume refuse it."""
+    line cut by an interrupted write, which resume repairs): report, plot and resume refuse it."""
     spec = tmp_path / "study.yaml"
     spec.write_text(textwrap.dedent(STUDY.format(vehicle=WHEELSET)))
     out = tmp_path / "out"
@@ -284,9 +284,10 @@ def test_a_garbage_results_table_is_refused_by_report_and_resume(tmp_path, capsy
         (out / "results.csv").write_bytes(table)
     else:
         (out / "results.csv").write_text(table)
-    assert main(["report", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert "results.csv" in err and "Traceback" not in err
+    for command in (["report"], ["plot"]):
+        assert main([*command, str(out)]) == 2, command
+        err = capsys.readouterr().err
+        assert "results.csv" in err and "Traceback" not in err, err
     assert main(["study", str(spec), "--out", str(out), "--workers", "0", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "results.csv" in err and "Traceback" not in err

@@ -29,7 +29,7 @@ import contextlib
 import json
 import os
 import re
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from railexu.errors import InputError
@@ -90,8 +90,9 @@ class OutputFolder:
 
         with OutputFolder(out, "run") as folder:   # checked and locked before the work
             result = run(...)
-            folder.write_text("summary.json", text)
-        # the files of an older job that were not written again are removed
+            folder.write_text("summary.json", text)  # the manifest says "complete": false
+        # the files of an older job that were not written again are removed, and the manifest
+        # says "complete": true; an exception leaves it saying false
 
     Raises:
         InputError: not writable, locked by another process, or holding another kind of output.
@@ -139,7 +140,7 @@ class OutputFolder:
         self.written.append(path)
         return path
 
-    def mark_incomplete(self, names: list[str] = ()) -> None:
+    def mark_incomplete(self, names: Iterable[str] = ()) -> None:
         """Write the manifest with ``"complete": false``, listing the files of the older job
         and ``names`` (those this job is about to write), so that a stopped job leaves a folder
         that says so and the next job still knows what to remove. Written again only when a
