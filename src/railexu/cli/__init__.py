@@ -31,7 +31,9 @@ from railexu.cli.common import (
     EXIT_FAILED,
     EXIT_INPUT,
     HelpFormatter,
+    Terminated,
     join_negative_values,
+    stop_on_sigterm,
 )
 from railexu.cli.common import CliError as CliError
 from railexu.cli.common import parse_range as parse_range
@@ -73,7 +75,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         gc_pause.resume()  # the console script paused it for the imports (railexu.runtime.gc_pause)
     name = f"railexu {args.command}"
     try:
-        return int(args.func(args))
+        with stop_on_sigterm():
+            return int(args.func(args))
     except InputError as exc:
         print(f"{name}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -83,8 +86,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         _silence_broken_pipe()
         return EXIT_FAILED
-    except KeyboardInterrupt:
-        print(f"\n{name}: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        how = "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
+        print(f"\n{name}: {how}", file=sys.stderr)
         return EXIT_FAILED
     except Exception:
         traceback.print_exc()

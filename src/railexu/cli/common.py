@@ -4,9 +4,12 @@ overrides, the help formatter."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import os
 import re
-from collections.abc import Callable, Sequence
+import signal
+from collections.abc import Callable, Iterator, Sequence
 
 from railexu.errors import InputError
 
@@ -28,6 +31,37 @@ MAX_RANGE_VALUES = 100_000
 
 class CliError(InputError):
     """Bad command-line input."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (``kill``, ``timeout``, a container's stop) received by the command: handled as
+    Ctrl-C is (the command stops, keeps what it has, says so, exit code 1)."""
+
+
+@contextlib.contextmanager
+def stop_on_sigterm() -> Iterator[None]:
+    """While the command runs, SIGTERM raises :class:`Terminated` in its main thread (Python's
+    default would end the process at once, without its ``finally`` clauses: a folder half
+    written, children left behind). A process forked meanwhile that kept this handler ends as
+    by default. Nothing is changed outside the main thread."""
+    pid = os.getpid()
+
+    def handler(signum, frame) -> None:
+        if os.getpid() != pid:  # a forked child: the default action
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        raise Terminated("SIGTERM")
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter, argparse.RawDescriptionHelpFormatter):

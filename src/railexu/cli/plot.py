@@ -31,8 +31,10 @@ def command(args: argparse.Namespace) -> int:
     from railexu.cli.run import plot_formats
     from railexu.report.figures import save_figure
     from railexu.report.folder import add_to_manifest
+    from railexu.report.folder_check import check_output_folder
     from railexu.report.run_figures import run_figures
-    from railexu.results import TimeSeries, read_summary
+    from railexu.report.run_folder import read_run_summary
+    from railexu.results import TimeSeries
     from railexu.study import is_study_folder
     from railexu.study.plots import plot_study
 
@@ -42,11 +44,13 @@ def command(args: argparse.Namespace) -> int:
         written = plot_study(folder)
         print(f"railexu plot: wrote {len(written)} study plots to {folder}")
         return 0
+    # an incomplete or damaged folder is refused (railexu.report.folder_check)
+    check_output_folder(folder, "run", ("timeseries.csv",))
     ts_path = folder / "timeseries.csv"
     if not ts_path.exists():
         raise CliError(f"{folder}: no timeseries.csv (not an output folder of railexu run)")
     ts = TimeSeries.from_csv(ts_path)
-    summary = read_summary(folder / "summary.json") if (folder / "summary.json").exists() else None
+    summary = read_run_summary(folder) if (folder / "summary.json").exists() else None
     title = ""
     if summary:
         speed = (summary.get("settings") or {}).get("speed_m_per_s")

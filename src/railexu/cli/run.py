@@ -215,8 +215,16 @@ def command(args: argparse.Namespace) -> int:
         result = run(vehicle, track, settings, progress, warm)
         for warning in result.summary.get("warnings", []):
             print(f"railexu run: warning: {warning}", file=sys.stderr)
-        written = write_run(result, folder, bool(formats), formats or ("png",), warm)
-        folder.finish()
+        try:
+            written = write_run(result, folder, bool(formats), formats or ("png",), warm)
+            folder.finish()
+        except KeyboardInterrupt:  # Ctrl-C or SIGTERM while writing: the folder says so
+            print(
+                f"railexu run: stopped while writing {args.out}: the folder is marked "
+                "incomplete (railexu report, plot and animate refuse it)",
+                file=sys.stderr,
+            )
+            raise
     finally:
         warm.close()
         folder.release()

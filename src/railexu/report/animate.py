@@ -602,6 +602,9 @@ def animate_run(
             from railexu.errors import did_you_mean
 
             raise InputError(f"view {view!r}.{did_you_mean(view, VIEWS)}", key="--view")
+    from railexu.report.folder_check import check_output_folder
+
+    check_output_folder(folder, "run", (STATE_FILE,))  # refuses an incomplete or damaged folder
     state = load_state(folder / STATE_FILE)
     frames = frame_indices(state.time_s, settings)
     out = Path(out_dir) if out_dir is not None else folder

@@ -20,6 +20,11 @@ Each job writes its own files under temporary names and renames them into place
 another process did not finish (it failed, or the process died) is written here afterwards: the
 files are the same whichever process writes them.
 
+No child outlives the command: a child that writes files ends when its parent dies (Linux's
+``PR_SET_PDEATHSIG``, even when the parent is killed with SIGKILL), SIGTERM makes it remove its
+temporary file and exit, and a parent interrupted while writing (Ctrl-C, SIGTERM) ends its
+children before it goes on (:func:`write_shares`, :func:`_write_with`).
+
 Children exist only where it is safe and useful: a platform with ``fork`` (Linux; macOS's and
 Windows' default start methods would re-import everything), more than one core, no other Python
 thread running (forking a threaded process can deadlock) and not inside a daemonic worker process
@@ -29,8 +34,10 @@ everything itself.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
+import signal
 import sys
 import threading
 from collections.abc import Callable, Sequence
@@ -84,12 +91,14 @@ def write_jobs(
 def _write_with(warm: WarmProcess, portable: list[FileJob], here: list[FileJob]) -> None:
     """``portable`` on the warm process and a fork of it, ``here`` meanwhile in this process;
     then here again what they did not write."""
-    warm.start(write_shares, portable, 2, fallback=_write_all_here)
+    warm.start(write_shares_as_child, portable, 2, fallback=_write_all_here)
     try:
         for job in here:
             job.write()
-    finally:
-        failed = warm.finish()
+    except BaseException:  # interrupted, or a write failed: the warm process stops now
+        warm.close()
+        raise
+    failed = warm.finish()
     _write_again(portable, failed)
 
 
@@ -126,11 +135,42 @@ def write_shares(jobs: Sequence[FileJob], parts: int) -> list[str]:
     failed: list[str] = []
     try:
         failed += [job.name for job in mine if not _write(job)]
+    except BaseException:  # interrupted (Ctrl-C, SIGTERM): the forks stop too
+        for pid in forks:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGTERM)
+        raise
     finally:  # the forks end in any case (Ctrl-C here does not leave them behind)
         for pid, share in forks.items():
             if os.waitpid(pid, 0)[1] != 0:
                 failed += [job.name for job in share]
     return failed
+
+
+def write_shares_as_child(jobs: Sequence[FileJob], parts: int) -> list[str]:
+    """:func:`write_shares` in a child process of the command (its warm process): the child
+    ends with its parent and cleans up on SIGTERM (:func:`_stop_with_parent`)."""
+    _stop_with_parent()
+    return write_shares(jobs, parts)
+
+
+def _stop_with_parent() -> None:
+    """In a child process: SIGTERM raises :class:`KeyboardInterrupt` (so that the file being
+    written is removed, not left half written), and on Linux the child gets SIGTERM when its
+    parent dies, even by SIGKILL (``prctl(PR_SET_PDEATHSIG)``)."""
+    parent = os.getppid()
+    signal.signal(signal.SIGTERM, _raise_interrupt)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent died before the line above
+        raise KeyboardInterrupt
+
+
+def _raise_interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt(f"signal {signum}")
 
 
 def _write_all_here(jobs: Sequence[FileJob], parts: int) -> list[str]:
@@ -147,24 +187,33 @@ def _may_fork() -> bool:
 
 def _fork_writer(share: list[FileJob]) -> int | None:
     """Fork a process that writes ``share`` and exits with 0 if every job succeeded; its pid,
-    or None when the fork failed."""
+    or None when the fork failed. SIGINT and SIGTERM wait while the process forks (one that
+    arrived during the fork's own handlers would be lost: Python ignores an exception there)."""
     # what is buffered now would otherwise be written again by the child
     sys.stdout.flush()
     sys.stderr.flush()
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
     try:
         pid = os.fork()
     except OSError:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         return None
     if pid == 0:  # the child's only job is its files; its errors are reported by its status
         status = 1
         try:
+            _stop_with_parent()
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
             run_serially_in_this_process()  # a forked child cannot start GNU OpenMP's threads
             status = 0 if all([_write(job) for job in share]) else 1
             sys.stdout.flush()
             sys.stderr.flush()
         finally:
             os._exit(status)
+    signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a signal that came meanwhile acts now
     return pid
+
+
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
 def _write(job: FileJob) -> bool:

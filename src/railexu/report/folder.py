@@ -13,7 +13,14 @@ through :class:`OutputFolder`:
 - a manifest (``.railexu-files.json``) lists the files the last job wrote; the next job into the
   same folder removes those it does not write again (no plots of an older run beside new data),
   and a folder that holds another kind of output (a study's folder given to ``railexu run``) is
-  refused.
+  refused;
+- the manifest is also the folder's completion marker: before the first file of a job is written
+  it says ``"complete": false`` (with every file an older job or this one may have left), and
+  only :meth:`OutputFolder.finish`, after the last data file, writes ``"complete": true`` with
+  the size of each file. A job stopped while writing (a signal, a full disk, a crash) leaves a
+  folder that says it is incomplete; readers check it with
+  :func:`railexu.report.folder_check.check_output_folder`;
+- temporary files a killed job left (``.NAME.PID.tmp.EXT``) are removed by the next job.
 """
 
 from __future__ import annotations
@@ -21,13 +28,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-from collections.abc import Iterator
+import re
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from railexu.errors import InputError
 
 MANIFEST = ".railexu-files.json"
 LOCK_FILE = ".railexu.lock"
+#: the temporary names of :func:`atomic_path` (and of a study's ``.NAME.tmp``)
+_TEMPORARY = re.compile(r"^\..+\.(\d+\.)?tmp(\.[^.]+)?$")
+_TEMPORARY_NAME = re.compile(r"^\.(.+)\.\d+\.tmp(\.[^.]+)?$")  # -> the name and suffix
 # files that mark the output of each kind of job, to refuse writing one kind over another
 _MARKERS = {
     "run": ("summary.json", "timeseries.csv"),
@@ -79,8 +90,9 @@ class OutputFolder:
 
         with OutputFolder(out, "run") as folder:   # checked and locked before the work
             result = run(...)
-            folder.write_text("summary.json", text)
-        # the files of an older job that were not written again are removed
+            folder.write_text("summary.json", text)  # the manifest says "complete": false
+        # the files of an older job that were not written again are removed, and the manifest
+        # says "complete": true; an exception leaves it saying false
 
     Raises:
         InputError: not writable, locked by another process, or holding another kind of output.
@@ -94,12 +106,15 @@ class OutputFolder:
         self.option = option
         self.written: list[Path] = []
         self._lock = None
+        self._listed: set[str] = set()  # the files of the incomplete manifest
+        self._marked = False
 
     def prepare(self) -> OutputFolder:
         """Check, create and lock the folder; refuse one that holds another kind of output."""
         check_writable_folder(self.path, self.option)
         self._refuse_other_kinds()
         self._lock = _lock(self.path)
+        remove_temporary_files(self.path)
         return self
 
     def __enter__(self) -> OutputFolder:
@@ -107,17 +122,38 @@ class OutputFolder:
 
     def __exit__(self, exc_type, exc, tb) -> None:
         try:
-            if exc_type is None or self.written:
+            if exc_type is None:  # a job that failed leaves the folder marked incomplete
                 self.finish()
         finally:
             self.release()
 
     def file(self, name: str) -> Path:
-        """The path of an output file (recorded as written by this job)."""
+        """The path of an output file (recorded as written by this job); the first call marks
+        the folder incomplete (:meth:`mark_incomplete`), before anything in it changes.
+
+        Raises:
+            InputError: the manifest cannot be written (a full disk, a read-only folder).
+        """
         path = self.path / name
+        self.mark_incomplete([name])
         path.parent.mkdir(parents=True, exist_ok=True)
         self.written.append(path)
         return path
+
+    def mark_incomplete(self, names: Iterable[str] = ()) -> None:
+        """Write the manifest with ``"complete": false``, listing the files of the older job
+        and ``names`` (those this job is about to write), so that a stopped job leaves a folder
+        that says so and the next job still knows what to remove. Written again only when a
+        file not yet listed is added."""
+        if not self._marked:
+            self._listed = set(_read_manifest(self.path))
+        new = set(names) - self._listed
+        if self._marked and not new:
+            return
+        self._listed |= new
+        manifest = {"kind": self.kind, "complete": False, "files": sorted(self._listed)}
+        _write_manifest(self.path, manifest)
+        self._marked = True
 
     def write_text(self, name: str, text: str) -> Path:
         """Write a text file atomically."""
@@ -127,17 +163,29 @@ class OutputFolder:
         return path
 
     def finish(self) -> None:
-        """Remove the files an older job wrote here that this one did not, then record ours."""
+        """Remove the files an older job wrote here that this one did not, then record ours
+        with their sizes and ``"complete": true``: the last write of a job.
+
+        Raises:
+            InputError: a file of this job is missing, or the manifest cannot be written.
+        """
         mine = {p.resolve() for p in self.written}
         for name in _read_manifest(self.path):
             old = (self.path / name).resolve()
             if old not in mine and old.is_file() and self.path.resolve() in old.parents:
                 with contextlib.suppress(OSError):
                     old.unlink()
-        names = sorted({str(p.relative_to(self.path)) for p in self.written})
-        manifest = {"kind": self.kind, "files": names}
-        with atomic_path(self.path / MANIFEST) as tmp:
-            tmp.write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+        names = sorted({p.relative_to(self.path).as_posix() for p in self.written})
+        sizes = {}
+        for name in names:
+            try:
+                sizes[name] = (self.path / name).stat().st_size
+            except OSError:
+                raise InputError(
+                    f"{self.path / name}: not written; the folder stays marked incomplete"
+                ) from None
+        manifest = {"kind": self.kind, "complete": True, "files": names, "sizes": sizes}
+        _write_manifest(self.path, manifest)
 
     def release(self) -> None:
         if self._lock is not None:
@@ -162,23 +210,71 @@ class OutputFolder:
 
 def add_to_manifest(folder: str | Path, names: list[str]) -> None:
     """Add files written later into an output folder (figures redrawn, animations, a report
-    page) to its list of written files, so that the next job into the folder replaces them
-    too. A folder without a manifest (not written by railexu) is left alone."""
-    path = Path(folder) / MANIFEST
+    page) to its list of written files (with their sizes), so that the next job into the folder
+    replaces them too. A folder without a readable manifest (not written by railexu) is left
+    alone; the manifest's completion is not changed."""
+    folder = Path(folder)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        data = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+        files = set(data.get("files", []))
+    except (OSError, ValueError, AttributeError, TypeError):
         return
-    data["files"] = sorted(set(data.get("files", [])) | set(names))
-    with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    data["files"] = sorted(files | set(names))
+    if isinstance(data.get("sizes"), dict):
+        for name in names:
+            with contextlib.suppress(OSError):
+                data["sizes"][name] = (folder / name).stat().st_size
+    _write_manifest(folder, data)
+
+
+@contextlib.contextmanager
+def writing_errors(folder: OutputFolder) -> Iterator[None]:
+    """Turn a failed write into the folder (``OSError``: a full disk, a folder made read-only,
+    a quota) into an :class:`~railexu.errors.InputError` naming the file and the folder, which
+    stays marked incomplete."""
+    try:
+        yield
+    except OSError as exc:
+        where = folder.path
+        if exc.filename:  # the file, not its temporary name
+            name = Path(exc.filename).name
+            real = _TEMPORARY_NAME.match(name)
+            where = Path(exc.filename).with_name("".join(real.groups(""))) if real else name
+        raise InputError(
+            f"cannot write {where}: {exc.strerror or exc}; {folder.path} is marked incomplete",
+            key=folder.option,
+        ) from None
+
+
+def remove_temporary_files(folder: str | Path) -> list[Path]:
+    """Remove the temporary files (``.NAME.PID.tmp.EXT``) that a job killed while writing left
+    in ``folder`` (call it holding the folder's lock: no other job is writing them)."""
+    removed = []
+    with contextlib.suppress(OSError):
+        for path in Path(folder).iterdir():
+            if _TEMPORARY.match(path.name) and path.is_file():
+                with contextlib.suppress(OSError):
+                    path.unlink()
+                    removed.append(path)
+    return removed
+
+
+def _write_manifest(folder: Path, manifest: dict) -> None:
+    """Write the manifest atomically; a failure (a full disk) is an error naming the folder."""
+    try:
+        with atomic_path(folder / MANIFEST) as tmp:
+            tmp.write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+    except OSError as exc:
+        raise InputError(
+            f"cannot write {folder / MANIFEST}: {exc.strerror or exc}", key="--out"
+        ) from None
 
 
 def _read_manifest(path: Path) -> list[str]:
     try:
         data = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
         return [str(n) for n in data.get("files", [])]
-    except (OSError, ValueError, AttributeError):
+    except (OSError, ValueError, AttributeError, TypeError):
         return []
 
 

@@ -144,14 +144,16 @@ def run_report_html(folder: str | Path, figures: bool = True) -> str:
     """The HTML text of a run folder's report.
 
     Raises:
-        InputError: the folder holds no ``summary.json``.
+        InputError: the folder holds no ``summary.json``; it is incomplete or damaged
+            (:func:`railexu.report.run_folder.read_run_summary`).
     """
-    from railexu.results import TimeSeries, read_summary
+    from railexu.report.run_folder import TIMESERIES, read_run_summary
+    from railexu.results import TimeSeries
 
     folder = Path(folder)
     if not (folder / "summary.json").is_file():
         raise InputError(f"{folder}: no summary.json (not an output folder of railexu run)")
-    summary = read_summary(folder / "summary.json")
+    summary = read_run_summary(folder, ("summary.json", TIMESERIES, STATE_FILE))
     meta = _state_meta(folder)
     status = summary.get("status", {})
     state = str(status.get("state", "unknown"))
@@ -378,8 +380,7 @@ def study_report_html(folder: str | Path, case_reports: dict[str, str] | None = 
         meta = json.loads((folder / "study.json").read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
         raise InputError(f"{folder / 'study.json'}: cannot read: {exc}") from None
-    with (folder / "results.csv").open(newline="", encoding="utf-8") as fh:
-        rows = sorted(csv.DictReader(fh), key=lambda r: r.get("case_id", ""))
+    rows = sorted(read_study_rows(folder / "results.csv"), key=lambda r: r["case_id"])
     case_reports = case_reports or {}
     name = meta.get("name") or folder.name
     counts: dict[str, int] = {}
@@ -407,6 +408,42 @@ def study_report_html(folder: str | Path, case_reports: dict[str, str] | None = 
 
 
 _HIDDEN = ("case_hash", "error")
+
+
+def read_study_rows(path: Path) -> list[dict[str, str]]:
+    """The rows of a study's ``results.csv`` (a last line cut short by an interrupted write is
+    left out, as the study's resume does).
+
+    Raises:
+        DamagedFolderError: not text, no ``case_id`` and ``status`` columns, or a row (other
+            than a cut last one) with another number of fields than the header.
+    """
+    from railexu.report.folder_check import DamagedFolderError
+
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DamagedFolderError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise DamagedFolderError(f"{path}: not text; the study's folder is damaged") from None
+    try:
+        records = list(csv.reader(text.splitlines(keepends=True)))
+    except csv.Error as exc:
+        raise DamagedFolderError(f"{path}: not a CSV table ({exc})") from None
+    if not records or not {"case_id", "status"} <= set(records[0]):
+        raise DamagedFolderError(
+            f"{path}: no header with case_id and status columns; the study's folder is damaged"
+        )
+    header, body = records[0], records[1:]
+    if body and not text.endswith("\n"):  # cut by an interrupted write: that case is not done
+        body = body[:-1]
+    for n, row in enumerate(body, start=2):
+        if len(row) != len(header):
+            raise DamagedFolderError(
+                f"{path}, line {n}: {len(row)} fields, expected {len(header)} (one per header "
+                "column); the study's folder is damaged"
+            )
+    return [dict(zip(header, row, strict=True)) for row in body]
 
 
 def _case_table(rows: list[dict], case_reports: dict[str, str]) -> str:
@@ -461,7 +498,11 @@ def write_report(folder: str | Path, cases: bool = True, progress=None) -> list[
     written: list[Path] = []
     if (folder / "study.json").is_file() and (folder / "results.csv").is_file():
         links: dict[str, str] = {}
-        case_dirs = sorted(p for p in (folder / "cases").glob("*") if p.is_dir())
+        # the cases with a row: a case folder without one is being written or was stopped
+        finished = {r["case_id"] for r in read_study_rows(folder / "results.csv")}
+        case_dirs = sorted(
+            p for p in (folder / "cases").glob("*") if p.is_dir() and p.name in finished
+        )
         for n, case in enumerate(case_dirs):
             if cases and (case / "summary.json").is_file():
                 written.append(_write(case, run_report_html(case)))

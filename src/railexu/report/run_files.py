@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from railexu.report.file_jobs import FileJob, write_jobs
-from railexu.report.folder import OutputFolder, atomic_path
+from railexu.report.folder import OutputFolder, atomic_path, writing_errors
 from railexu.results import write_summary
 
 if TYPE_CHECKING:
@@ -23,13 +23,17 @@ def write_run(
     formats: tuple[str, ...] = ("png",),
     warm: WarmProcess | None = None,
 ) -> list[Path]:
-    """Write ``timeseries.csv``, ``summary.json``, ``state.npz`` and the figures of a run into
-    ``out_dir``.
+    """Write ``timeseries.csv``, ``state.npz``, the figures and then ``summary.json`` of a run
+    into ``out_dir``.
 
-    Each file is written under a temporary name and renamed into place; the files of an older
-    run in the same folder that this run does not write again (figures of another format, a
-    figure this run does not draw) are removed. ``out_dir`` may be an :class:`OutputFolder`
-    already prepared (and locked) before the run, as ``railexu run`` does.
+    The folder is marked incomplete before its first file changes; each file is written under a
+    temporary name and renamed into place, the data files first and ``summary.json`` last; the
+    files of an older run in the same folder that this run does not write again (figures of
+    another format, a figure this run does not draw) are removed, and the manifest marking the
+    folder complete is written at the very end (:meth:`OutputFolder.finish`). A write stopped by
+    an error or a signal leaves the folder marked incomplete. ``out_dir`` may be an
+    :class:`OutputFolder` already prepared (and locked) before the run, as ``railexu run`` does:
+    its caller then calls :meth:`OutputFolder.finish`.
 
     Args:
         plots: draw the figures.
@@ -40,7 +44,8 @@ def write_run(
 
     Raises:
         InputError: the folder is not writable, is being written by another process, or holds
-            the output of another kind of job.
+            the output of another kind of job; a file could not be written (a full disk: the
+            folder stays marked incomplete).
     """
     if isinstance(out_dir, OutputFolder):
         return _write_into(result, out_dir, plots, formats, warm)
@@ -55,17 +60,20 @@ def _write_into(
     formats: tuple[str, ...],
     warm: WarmProcess | None,
 ) -> list[Path]:
-    path = folder.file("summary.json")
-    with atomic_path(path) as tmp:
-        write_summary(result.summary, tmp)
-    jobs = [FileJob("timeseries", _csv_writer(result, folder.file("timeseries.csv")), 0.4)]
-    if result.model is not None:  # the state the animations read (railexu animate)
-        from railexu.report.state_file import STATE_FILE
+    with writing_errors(folder):
+        # every name first: the manifest marks the folder incomplete with all of them listed
+        summary_path = folder.file("summary.json")
+        jobs = [FileJob("timeseries", _csv_writer(result, folder.file("timeseries.csv")), 0.4)]
+        if result.model is not None:  # the state the animations read (railexu animate)
+            from railexu.report.state_file import STATE_FILE
 
-        jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
-    if plots:
-        jobs += _figure_jobs(result, folder, formats)
-    write_jobs(jobs, warm=warm)
+            jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
+        if plots:
+            jobs += _figure_jobs(result, folder, formats)
+        write_jobs(jobs, warm=warm)
+        # the summary (what the run claims) after the data it describes
+        with atomic_path(summary_path) as tmp:
+            write_summary(result.summary, tmp)
     return list(folder.written)
 
 

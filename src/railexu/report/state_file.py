@@ -586,9 +586,27 @@ def load_state(path: str | Path) -> RunState:
         raise InputError(
             f"{path}: no state file; it is written by `railexu run` (rerun the case to make it)"
         ) from None
-    except (OSError, ValueError) as exc:
-        raise InputError(f"{path}: cannot read the state file: {exc}") from None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
+        # empty (EOFError), cut short (BadZipFile, ValueError), a member missing (KeyError)
+        raise InputError(
+            f"{path}: cannot read the state file ({exc or type(exc).__name__}); it is damaged "
+            "or cut short: run the case again"
+        ) from None
+    try:
+        return _state_from_arrays(path, data)
+    except InputError:
+        raise
+    except (KeyError, IndexError, ValueError, TypeError, AttributeError) as exc:
+        raise InputError(
+            f"{path}: the state file is damaged ({type(exc).__name__}: {exc}): run the case again"
+        ) from None
+
+
+def _state_from_arrays(path: Path, data: dict) -> RunState:
+    """The :class:`RunState` of the arrays of a state file (a missing array: ``KeyError``)."""
     meta = json.loads(str(data.get("meta_json", "{}")))
+    if not isinstance(meta, dict):
+        raise ValueError("meta_json is not a JSON object")
     if meta.get("format_version") != FORMAT_VERSION or "contacts" not in data:
         raise InputError(
             f"{path}: state file of format {meta.get('format_version')!r}, this railexu reads "

@@ -27,12 +27,20 @@ def _write_json(path: Path, data: Any) -> None:
 
 
 def _write_files(case_dir: Path, files: Mapping[str, bytes]) -> None:
+    """Write a case's files sent back by a Dask worker; the manifest that marks the case's
+    folder complete (``.railexu-files.json``) last, so that a study stopped meanwhile leaves a
+    folder that says it is incomplete."""
+    from railexu.report.folder import MANIFEST
+
     if case_dir.exists():
         shutil.rmtree(case_dir)
-    for name, data in files.items():
+    if MANIFEST in files:  # incomplete until the manifest's own content replaces this
+        case_dir.mkdir(parents=True, exist_ok=True)
+        _write_json(case_dir / MANIFEST, {"kind": "run", "complete": False, "files": []})
+    for name in sorted(files, key=lambda n: n == MANIFEST):
         path = case_dir / name
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(data)
+        path.write_bytes(files[name])
     case_dir.mkdir(parents=True, exist_ok=True)
 
 

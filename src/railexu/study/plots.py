@@ -7,6 +7,7 @@ from pathlib import Path
 
 from railexu.study.errors import StudyError
 from railexu.study.folder import PLOTS_DIR, RESULTS_CSV, STUDY_JSON, is_study_folder
+from railexu.study.table import read_results
 
 
 def plot_study(out_dir: str | Path) -> list[Path]:
@@ -29,7 +30,10 @@ def plot_study(out_dir: str | Path) -> list[Path]:
         meta = json.loads((out / STUDY_JSON).read_text(encoding="utf-8"))
     except (OSError, ValueError) as exc:
         raise StudyError(f"{out / STUDY_JSON}: cannot read: {exc}") from None
+    if not isinstance(meta, dict):
+        raise StudyError(f"{out / STUDY_JSON}: expected a JSON object, got {type(meta).__name__}")
+    rows = read_results(out / RESULTS_CSV)  # a damaged table: StudyError naming the line
     written: list[Path] = []
-    for name, fig in study_figures(out / RESULTS_CSV, meta).items():
+    for name, fig in study_figures(rows, meta).items():
         written.extend(save_figure(fig, out / PLOTS_DIR / name))
     return written

@@ -79,7 +79,12 @@ def _read_table(path: Path) -> tuple[list[str], list[list[str]], bool]:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise StudyError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    records = list(csv.reader(text.splitlines(keepends=True)))
+    except UnicodeDecodeError:
+        raise StudyError(f"{path}: not text (damaged); {_START_OVER}") from None
+    try:
+        records = list(csv.reader(text.splitlines(keepends=True)))
+    except csv.Error as exc:
+        raise StudyError(f"{path}: not a CSV table ({exc}); {_START_OVER}") from None
     if not records:
         return [], [], False
     header = records[0]
@@ -90,9 +95,19 @@ def _read_table(path: Path) -> tuple[list[str], list[list[str]], bool]:
     cut = bool(body) and not text.endswith("\n")
     if cut:
         body = body[:-1]
+    # any other row of another length is not a cut write but damage: refused, not dropped
+    for n, r in enumerate(body, start=2):
+        if len(r) != len(header) and r:
+            raise StudyError(
+                f"{path}, line {n}: {len(r)} fields, expected {len(header)} (one per header "
+                f"column): the table is damaged; {_START_OVER}"
+            )
     rows = [r for r in body if len(r) == len(header)]
     damaged = cut or len(rows) != len(records) - 1
     return header, rows, damaged
+
+
+_START_OVER = "repair it, or delete it to run every case again"
 
 
 class _Table:
