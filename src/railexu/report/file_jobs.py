@@ -171,6 +171,7 @@ def _take_over(jobs: Sequence[FileJob], claims: _Claims, watch: CpuWatch) -> lis
     _work(jobs, claims)
     me = os.getpid()
     taken: list[int] = []
+    watched: set[int] = set()  # the processes waited for: their windows start with the wait
     for job in jobs:
         while True:
             state = claims.state(job.name)
@@ -180,6 +181,9 @@ def _take_over(jobs: Sequence[FileJob], claims: _Claims, watch: CpuWatch) -> lis
                 job.write()
                 break
             pid = claims.claimer(job.name)
+            if pid is not None and pid not in watched:
+                watched.add(pid)
+                watch.restart(pid)
             if taken or pid is None or pid == me or watch.starved(pid):
                 taken.append(pid if pid is not None else -1)
                 job.write()
