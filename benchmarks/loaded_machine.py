@@ -8,6 +8,9 @@ during the benchmark affects both alike:
 - *idle*: nothing of this benchmark runs beside the command;
 - *loaded*: ``--loops`` (default 2) CPU-bound Python processes (``while True: pass``) run beside
   it, one per core of a 2-core machine: the helpers then compete for the processor;
+- *starved*: nothing beside it, but the warm process is stopped (SIGSTOP) as soon as it is
+  forked: the worst a machine can do to a helper (it gets no processor time at all; before
+  issue 26 such a run never ended);
 - *helpers on*: the default (the warm process, the forked figure writer);
 - *helpers off*: ``RAILEXU_HELPER_PROCESSES=0`` (as ``--no-helper-processes``).
 
@@ -25,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import statistics
 import subprocess
 import sys
@@ -38,13 +42,39 @@ CONSOLE = "from railexu.console import entry_point; entry_point()"
 LOOP = "while True: pass"
 
 
-def run_command(vehicle: str, out: Path, helpers: bool) -> tuple[float, float, int]:
-    """One ``railexu run VEHICLE``: (wall-clock s, processor s of it and its children, exit)."""
+def children(pid: int) -> list[int]:
+    """The ids of the child processes of ``pid`` (Linux)."""
+    try:
+        with open(f"/proc/{pid}/task/{pid}/children") as fh:
+            return [int(p) for p in fh.read().split()]
+    except OSError:
+        return []
+
+
+def stop_first_child(pid: int, limit_s: float = 60.0) -> None:
+    """Stop (SIGSTOP) the first child of ``pid`` as soon as it exists: the warm process, which
+    then gets no processor time at all, as on a machine that starves it."""
+    end = time.monotonic() + limit_s
+    while time.monotonic() < end:
+        found = children(pid)
+        if found:
+            os.kill(found[0], signal.SIGSTOP)
+            return
+        time.sleep(0.002)
+
+
+def run_command(
+    vehicle: str, out: Path, helpers: bool, starve: bool = False
+) -> tuple[float, float, int]:
+    """One ``railexu run VEHICLE``: (wall-clock s, processor s of it and its children, exit);
+    ``starve``: its warm process is stopped as soon as it is forked."""
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     env["RAILEXU_HELPER_PROCESSES"] = "1" if helpers else "0"
     argv = [sys.executable, "-c", CONSOLE, "run", vehicle, "--quiet", "--out", str(out)]
     start = time.perf_counter()
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    if starve:
+        stop_first_child(proc.pid)
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - start
     proc.returncode = os.waitstatus_to_exitcode(status)
@@ -71,14 +101,15 @@ def measure(vehicle: str, reps: int, loops: int, folder: Path) -> dict:
     times: dict[tuple[str, bool], list[tuple[float, float]]] = {}
     # a first run loads numba's cache and the file system's: not counted
     run_command(vehicle, folder / "first", True)
-    for condition, n_loops in (("idle", 0), ("loaded", loops)):
+    for condition, n_loops in (("idle", 0), ("loaded", loops), ("starved", 0)):
         running = start_loops(n_loops)
         try:
             time.sleep(0.5 if n_loops else 0.0)
             for rep in range(reps):
                 for helpers in (True, False) if rep % 2 == 0 else (False, True):
                     out = folder / f"{condition}_{'on' if helpers else 'off'}_{rep}"
-                    wall, cpu, code = run_command(vehicle, out, helpers)
+                    starve = helpers and condition == "starved"
+                    wall, cpu, code = run_command(vehicle, out, helpers, starve)
                     times.setdefault((condition, helpers), []).append((wall, cpu))
                     state = "on " if helpers else "off"
                     print(f"  {condition:6s} helpers {state} rep {rep + 1}: {wall:7.2f} s wall, "
@@ -91,7 +122,7 @@ def measure(vehicle: str, reps: int, loops: int, folder: Path) -> dict:
 def report(times: dict, loops: int) -> None:
     print(f"\nmedians (interleaved; loaded = {loops} CPU-bound processes beside the command)")
     print(f"{'condition':10s} {'helpers on':>22s} {'helpers off':>22s} {'on/off wall':>12s}")
-    for condition in ("idle", "loaded"):
+    for condition in ("idle", "loaded", "starved"):
         on = times.get((condition, True), [])
         off = times.get((condition, False), [])
         if not on or not off:

@@ -171,24 +171,50 @@ def test_a_study_stopped_by_a_signal_exits_130_and_keeps_its_finished_cases(tmp_
     assert _session_processes(proc.pid) == []
 
 
+def _stop_first_child(pid: int) -> None:
+    """SIGSTOP the first child of ``pid`` (its warm process) as soon as it exists."""
+    deadline = time.monotonic() + LIMIT_S
+    while time.monotonic() < deadline:
+        try:
+            with open(f"/proc/{pid}/task/{pid}/children") as fh:
+                found = fh.read().split()
+        except OSError:
+            found = []
+        if found:
+            os.kill(int(found[0]), signal.SIGSTOP)
+            return
+        time.sleep(0.002)
+
+
 def test_the_helper_switch_gives_the_same_files(tmp_path):
     """``railexu run`` with its helper processes (the warm process, the figure writers), with
-    ``--no-helper-processes`` and with ``RAILEXU_HELPER_PROCESSES=0``: the same time series,
-    figures and summary, byte for byte (but the timings)."""
+    ``--no-helper-processes``, with ``RAILEXU_HELPER_PROCESSES=0`` and with its warm process
+    stopped (a helper starved of processor time): the same time series, figures and summary,
+    byte for byte (but the timings), and no run waits for ever."""
     env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
     env.pop("RAILEXU_HELPER_PROCESSES", None)
     base = [sys.executable, "-m", "railexu.cli", "run", "wheelset", "--distance", "3", "--quiet"]
-    outs = [tmp_path / name for name in ("on", "option", "environment")]
+    outs = [tmp_path / name for name in ("on", "option", "environment", "starved")]
     for out, extra, more_env in (
         (outs[0], [], {}),
         (outs[1], ["--no-helper-processes"], {}),
         (outs[2], [], {"RAILEXU_HELPER_PROCESSES": "0"}),
+        (outs[3], [], {}),
     ):
-        done = subprocess.run(
-            [*base, *extra, "--out", str(out)], capture_output=True, env={**env, **more_env},
-            timeout=LIMIT_S,
+        proc = subprocess.Popen(
+            [*base, *extra, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            env={**env, **more_env},
         )  # fmt: skip
-        assert done.returncode == 0, done.stderr.decode()
+        if out.name == "starved":
+            # its warm process gets no processor time at all (stopped as soon as it exists):
+            # the run must not wait for it (before issue 26 it waited for ever)
+            _stop_first_child(proc.pid)
+        try:
+            _, stderr = proc.communicate(timeout=LIMIT_S)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        assert proc.returncode == 0, stderr.decode()
     names = sorted(p.name for p in outs[0].iterdir() if not p.name.startswith("."))
     assert "timeseries.csv" in names and any(n.endswith(".png") for n in names)
 
