@@ -21,7 +21,8 @@ jobs) changes the absolute times: compare the ratios within one run of this scri
 times across runs. The contacts' threads (``RAILEXU_THREADS``) are left as the environment
 sets them and printed.
 
-Run: ``python benchmarks/loaded_machine.py [--reps 3] [--loops 2] [--vehicle eu07]``.
+Run: ``python benchmarks/loaded_machine.py [--reps 3] [--loops 2] [--vehicle eu07]
+[--conditions idle,loaded,starved]``.
 """
 
 from __future__ import annotations
@@ -96,12 +97,18 @@ def stop_loops(loops: list[subprocess.Popen]) -> None:
         loop.wait()
 
 
-def measure(vehicle: str, reps: int, loops: int, folder: Path) -> dict:
+CONDITIONS = ("idle", "loaded", "starved")
+
+
+def measure(
+    vehicle: str, reps: int, loops: int, folder: Path, conditions: tuple[str, ...] = CONDITIONS
+) -> dict:
     """Wall and processor times per (condition, helpers), interleaved."""
     times: dict[tuple[str, bool], list[tuple[float, float]]] = {}
     # a first run loads numba's cache and the file system's: not counted
     run_command(vehicle, folder / "first", True)
-    for condition, n_loops in (("idle", 0), ("loaded", loops), ("starved", 0)):
+    for condition in conditions:
+        n_loops = loops if condition == "loaded" else 0
         running = start_loops(n_loops)
         try:
             time.sleep(0.5 if n_loops else 0.0)
@@ -122,7 +129,7 @@ def measure(vehicle: str, reps: int, loops: int, folder: Path) -> dict:
 def report(times: dict, loops: int) -> None:
     print(f"\nmedians (interleaved; loaded = {loops} CPU-bound processes beside the command)")
     print(f"{'condition':10s} {'helpers on':>22s} {'helpers off':>22s} {'on/off wall':>12s}")
-    for condition in ("idle", "loaded", "starved"):
+    for condition in CONDITIONS:
         on = times.get((condition, True), [])
         off = times.get((condition, False), [])
         if not on or not off:
@@ -140,12 +147,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--reps", type=int, default=3, help="runs per setting")
     parser.add_argument("--loops", type=int, default=2, help="CPU-bound processes when loaded")
     parser.add_argument("--vehicle", default="eu07", help="the vehicle of railexu run")
+    parser.add_argument(
+        "--conditions", default=",".join(CONDITIONS), help="which of idle,loaded,starved"
+    )
     args = parser.parse_args(argv)
     print(f"railexu run {args.vehicle}: {os.cpu_count()} cores, load average "
           f"{os.getloadavg()[0]:.2f} at the start, RAILEXU_THREADS="
           f"{os.environ.get('RAILEXU_THREADS', '(not set)')}")  # fmt: skip
     with tempfile.TemporaryDirectory(prefix="railexu-loaded-") as tmp:
-        times = measure(args.vehicle, args.reps, args.loops, Path(tmp))
+        conditions = tuple(c.strip() for c in args.conditions.split(",") if c.strip())
+        times = measure(args.vehicle, args.reps, args.loops, Path(tmp), conditions)
     report(times, args.loops)
     print(f"load average at the end: {os.getloadavg()[0]:.2f}")
     return 0
