@@ -95,7 +95,10 @@ def write_jobs(
         _write_with(warm, portable, [job for job in jobs if not job.portable], abandoned)
         return
     if processes is None:
-        processes = 2 if can_fork() else 1
+        # a machine that starved the warm process would starve a fork too, which would only
+        # import the figure modules a second time: everything here
+        starved = warm is not None and warm.starved_out
+        processes = 2 if can_fork() and not starved else 1
     if processes < 2 or len(jobs) < 2:
         for job in jobs:
             job.write()

@@ -97,6 +97,8 @@ class WarmProcess:
         self._pending: tuple[Callable, tuple, Callable | None, str | None] | None = None
         self._calls = 0
         self.watch = watch or CpuWatch()
+        #: True once the warm process was ended because it was starved: the machine is busy
+        self.starved_out = False
         if not start or not can_fork():
             return
         # what is buffered now would otherwise be written again by the child at its exit
@@ -188,6 +190,7 @@ class WarmProcess:
             self.watch.restart(self._worker.pid)
             while not self._conn.poll(POLL_S):
                 if self.starved():
+                    self.starved_out = True
                     self.close()
                     return False, None
             self._conn.recv()  # a few bytes: "the answer is in its file"
