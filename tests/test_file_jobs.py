@@ -200,3 +200,16 @@ def test_without_a_warm_process_the_portable_jobs_are_written_as_before(tmp_path
     assert not warm.ready
     write_jobs(_portable_jobs(paths), processes=1, warm=warm)
     assert all(p.read_text() == str(os.getpid()) for p in paths)
+
+
+def test_a_starved_fork_is_not_waited_for(tmp_path, forking):
+    """Without a warm process (``railexu.write_run`` from a script) the same: a forked writer
+    that gets no processor time in the middle of a job is killed and its jobs written here."""
+    paths = [tmp_path / f"f{i}.txt" for i in range(4)]
+    me = os.getpid()
+    # the fork stops at the first job it takes
+    jobs = [FileJob(p.name, _PortableWriter(p, stop_outside_pid=me)) for p in paths]
+    told = []
+    write_jobs(jobs, processes=2, abandoned=told.extend)
+    assert all(p.read_text() == str(me) for p in paths)
+    assert all(cpu_seconds(pid) is None for pid in told)  # killed and reaped
