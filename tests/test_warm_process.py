@@ -173,3 +173,16 @@ def test_the_switch_turns_the_warm_process_off(monkeypatch):
     monkeypatch.setenv(ENV_SWITCH, "maybe")
     with pytest.raises(InputError, match="RAILEXU_HELPER_PROCESSES.*expected 0"):
         WarmProcess()
+
+
+def test_a_free_core_is_read_from_the_runnable_tasks(tmp_path):
+    """``free_core``: the runnable tasks (this process among them) against the cores."""
+    from railexu.runtime.helpers import free_core
+
+    cores = os.cpu_count() or 1
+    stat = tmp_path / "stat"
+    stat.write_text("cpu  1 2 3\nprocs_running 1\nprocs_blocked 0\n")  # only this process
+    assert free_core(str(stat))
+    stat.write_text(f"procs_running {cores + 1}\n")  # every core busy besides this process
+    assert not free_core(str(stat))
+    assert free_core(str(tmp_path / "missing"))  # not readable: as before

@@ -174,6 +174,7 @@ def command(args: argparse.Namespace) -> int:
     from railexu.inputs.catalog import find_input
     from railexu.report.file_jobs import warm_up_figures
     from railexu.report.folder import OutputFolder
+    from railexu.runtime.helpers import free_core, helpers_enabled
     from railexu.runtime.warm_process import WarmProcess
 
     formats = plot_formats(args.plots, args.no_plots)
@@ -190,9 +191,13 @@ def command(args: argparse.Namespace) -> int:
     folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
     # a process that gets ready for the assessment and the figures while the run integrates
     # (railexu.runtime.warm_process): the results are the same as without it
-    helpers = not args.no_helper_processes
+    # a bad RAILEXU_HELPER_PROCESSES is told now, before the run
+    helpers = not args.no_helper_processes and helpers_enabled()
+    # without a free core the warm process would only add its processor time (issue 26)
     warm = WarmProcess(
-        _WARM_MODULES, partial(warm_up_figures, formats) if formats else None, start=helpers
+        _WARM_MODULES,
+        partial(warm_up_figures, formats) if formats else None,
+        start=helpers and free_core(),
     )
     gc_pause.resume()  # after the imports and the fork: the warm process keeps it paused
     try:

@@ -51,7 +51,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from railexu.runtime.helpers import CpuWatch, cpu_seconds
+from railexu.runtime.helpers import CpuWatch, cpu_seconds, free_core
 from railexu.runtime.threads import run_serially_in_this_process
 from railexu.runtime.warm_process import POLL_S, WarmProcess, can_fork
 
@@ -95,10 +95,10 @@ def write_jobs(
         _write_with(warm, portable, [job for job in jobs if not job.portable], abandoned)
         return
     if processes is None:
-        # a machine that starved the warm process would starve a fork too, which would only
-        # import the figure modules a second time: everything here
+        # a machine that starved the warm process, or has no free core, would starve a fork
+        # too, which would only import the figure modules a second time: everything here
         starved = warm is not None and warm.starved_out
-        processes = 2 if can_fork() and not starved else 1
+        processes = 2 if can_fork() and not starved and free_core() else 1
     if processes < 2 or len(jobs) < 2:
         for job in jobs:
             job.write()

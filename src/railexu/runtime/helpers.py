@@ -10,6 +10,9 @@ for one that does not progress. :class:`CpuWatch` reads a helper's processor tim
 *starved* (a busy machine gives it no processor time, or it is gone), and the command's process
 then does the helper's work itself. The results are the same whichever process computes them.
 
+A helper starts only where the machine has a free core (:func:`free_core`): without one, its
+processor time (its own imports and exit) would only add to the command's wall time.
+
 ``RAILEXU_HELPER_PROCESSES=0`` in the environment (or ``railexu run --no-helper-processes``)
 turns the helpers off: everything runs in the command's own process.
 """
@@ -50,6 +53,31 @@ def helpers_enabled() -> bool:
         source="environment",
         key=ENV_SWITCH,
     )
+
+
+def free_core(stat_path: str = "/proc/stat", samples: int = 5) -> bool:
+    """Whether the machine has a core that no runnable task uses now: the median of ``samples``
+    readings (1 ms apart) of Linux's ``procs_running`` (the runnable tasks, this process
+    among them) less this process, below the cores. A helper started without a free core
+    only adds its processor time to the command's wall time (issue 26). True where it cannot
+    be read (not Linux).
+
+    Args:
+        stat_path: the kernel's statistics file (a test gives its own).
+        samples: readings to take.
+    """
+    counts = []
+    for i in range(samples):
+        try:
+            with open(stat_path) as fh:
+                line = next(ln for ln in fh if ln.startswith("procs_running"))
+            counts.append(int(line.split()[1]))
+        except (OSError, StopIteration, ValueError, IndexError):
+            return True
+        if i + 1 < samples:
+            time.sleep(0.001)
+    counts.sort()
+    return counts[len(counts) // 2] - 1 < (os.cpu_count() or 1)
 
 
 def cpu_seconds(pid: int) -> float | None:
