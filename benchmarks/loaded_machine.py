@@ -52,16 +52,28 @@ def children(pid: int) -> list[int]:
         return []
 
 
-def stop_first_child(pid: int, limit_s: float = 60.0) -> None:
-    """Stop (SIGSTOP) the first child of ``pid`` as soon as it exists: the warm process, which
-    then gets no processor time at all, as on a machine that starves it."""
+def stop_first_child(proc: subprocess.Popen, limit_s: float = 60.0) -> None:
+    """Stop (SIGSTOP) the first child of ``proc`` as soon as it exists: the warm process, which
+    then gets no processor time at all, as on a machine that starves it (none when the command
+    started no helper: without a free core it starts none)."""
     end = time.monotonic() + limit_s
     while time.monotonic() < end:
-        found = children(pid)
+        if _ended(proc.pid):
+            return
+        found = children(proc.pid)
         if found:
             os.kill(found[0], signal.SIGSTOP)
             return
         time.sleep(0.002)
+
+
+def _ended(pid: int) -> bool:
+    """Whether ``pid`` has exited (a zombie not yet reaped counts)."""
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] in ("Z", "X")
+    except OSError:
+        return True
 
 
 def run_command(
@@ -75,7 +87,7 @@ def run_command(
     start = time.perf_counter()
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     if starve:
-        stop_first_child(proc.pid)
+        stop_first_child(proc)
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - start
     proc.returncode = os.waitstatus_to_exitcode(status)
