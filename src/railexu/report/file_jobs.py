@@ -17,8 +17,9 @@ sits idle (the integration is serial). Two ways use it:
 The processes share the jobs by claiming them, the costliest first (:class:`_Claims`: a job's
 claim is an atomic link in a private folder), so a faster process simply takes more of them.
 Nothing waits on a starved helper (issue 26): when this process has written its own jobs, it
-writes every job no helper has begun, and it waits for a job a helper holds only while that
-helper progresses (:class:`railexu.runtime.helpers.CpuWatch`: at least a fifth of a core over
+waits for the jobs no helper has begun only while the warm process progresses (it has the
+figure modules imported; a forked writer without one gets no such wait), and for a job a
+helper holds only while that helper progresses (:class:`railexu.runtime.helpers.CpuWatch`: at least a fifth of a core over
 0.2 s); a starved or dead helper's job, and every job left after it, is written here, and the
 helpers are killed before :func:`write_jobs` returns (``abandoned`` names them, so that their
 temporary files can be removed). This process is then never slower than when it writes
@@ -123,7 +124,7 @@ def _write_with(
     try:
         for job in here:
             job.write()
-        taken = _take_over(order, claims, warm.watch)
+        taken = _take_over(order, claims, warm.watch, warm.pid)
         clean = True
     finally:
         helpers = claims.claimers() - {os.getpid()}
@@ -164,16 +165,24 @@ def _by_cost(jobs: Sequence[FileJob]) -> list[FileJob]:
     return sorted(jobs, key=lambda j: -j.cost)
 
 
-def _take_over(jobs: Sequence[FileJob], claims: _Claims, watch: CpuWatch) -> list[int]:
-    """This process's part once its own work is done: every job that no process has begun, then
-    for each job another process holds, a wait while that process progresses; a job whose
-    process is starved or gone (:class:`~railexu.runtime.helpers.CpuWatch`) is written here, and
-    so is every job left after that, without waiting. A job that failed elsewhere is written
-    again here (its error is raised now, if it recurs). Returns the ids of the processes whose
-    jobs were taken over."""
-    _work(jobs, claims)
+def _take_over(
+    jobs: Sequence[FileJob], claims: _Claims, watch: CpuWatch, helper: int | None = None
+) -> list[int]:
+    """This process's part once its own work is done. Without ``helper``: every job that no
+    process has begun, at once. With ``helper`` (the warm process, which has the figure modules
+    imported): a job nobody has begun waits while ``helper`` progresses, and is written here
+    once it is starved. Then, for each job another process holds, a wait while that process
+    progresses; a job whose process is starved or gone
+    (:class:`~railexu.runtime.helpers.CpuWatch`) is written here, and so is every job left
+    after that, without waiting. A job that failed elsewhere is written again here (its error is
+    raised now, if it recurs). Returns the ids of the processes whose jobs were taken over."""
     me = os.getpid()
+    if helper is None:
+        _work(jobs, claims)
+    else:
+        watch.restart(helper)
     taken: list[int] = []
+    given_up = False  # a helper was starved: no more waiting
     watched: set[int] = set()  # the processes waited for: their windows start with the wait
     for job in jobs:
         while True:
@@ -184,15 +193,27 @@ def _take_over(jobs: Sequence[FileJob], claims: _Claims, watch: CpuWatch) -> lis
                 job.write()
                 break
             pid = claims.claimer(job.name)
-            if pid is not None and pid not in watched:
+            if pid is None:  # nobody has begun it
+                if helper is not None and not given_up and not watch.starved(helper):
+                    time.sleep(POLL_S)
+                    continue
+                given_up = True
+                if claims.claim(job.name):
+                    claims.mark(job.name, _write(job))
+                elif claims.claimer(job.name) is None:  # no claim possible: write it here
+                    job.write()
+                    break
+                continue
+            if pid not in watched:
                 watched.add(pid)
                 watch.restart(pid)
-            if taken or pid is None or pid == me or watch.starved(pid):
-                taken.append(pid if pid is not None else -1)
+            if given_up or pid == me or watch.starved(pid):
+                given_up = True
+                taken.append(pid)
                 job.write()
                 break
             time.sleep(POLL_S)
-    return [pid for pid in taken if pid not in (-1, me)]
+    return [pid for pid in taken if pid != me]
 
 
 def _work(jobs: Sequence[FileJob], claims: _Claims) -> None:
