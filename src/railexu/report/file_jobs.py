@@ -20,10 +20,10 @@ Nothing waits on a starved helper (issue 26): when this process has written its 
 waits for the jobs no helper has begun only while the warm process progresses (it has the
 figure modules imported; a forked writer without one gets no such wait), and for a job a
 helper holds only while that helper progresses (:class:`railexu.runtime.helpers.CpuWatch`:
-at least a fifth of a core over 0.2 s); a starved or dead helper's job, and every job left after it, is written here, and the
-helpers are killed before :func:`write_jobs` returns (``abandoned`` names them, so that their
-temporary files can be removed). This process is then never slower than when it writes
-everything itself, whatever the load of the machine.
+at least a fifth of a core over 0.2 s); a starved or dead helper's job, and every job left
+after it, is written here, and the helpers are killed before :func:`write_jobs` returns
+(``abandoned`` names them, so that their temporary files can be removed). The longest this
+process waits on a helper that gets no processor time is one window of the watch.
 
 Each job writes its own files under temporary names and renames them into place
 (:func:`railexu.report.folder.atomic_path`), so two processes never write the same temporary
