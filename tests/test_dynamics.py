@@ -168,9 +168,13 @@ def test_derailment_stops_the_run_and_keeps_results(tmp_path):
 @pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
 def test_a_stop_signal_ends_the_run_with_its_results(signame):
     """SIGINT (Ctrl-C) or SIGTERM (timeout, kill, a container stop) during a run ends it at the
-    next step with status interrupted and the time series so far (as for a derailment)."""
+    next step with status interrupted and the time series so far (as for a derailment); then
+    ``run`` raises (RunInterrupted, RunTerminated for SIGTERM) with that result attached, so
+    that the calling script stops (issue 26)."""
     import os
     import signal
+
+    from railexu.errors import RunInterrupted, RunTerminated
 
     signum = getattr(signal, signame)
     # a test process started in the background by a shell without job control ignores SIGINT
@@ -189,8 +193,14 @@ def test_a_stop_signal_ends_the_run_with_its_results(signame):
 
     try:
         vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
-        result = run(vehicle, None, RunSettings(distance_m=100.0), progress=progress)
+        with pytest.raises(RunInterrupted) as caught:
+            run(vehicle, None, RunSettings(distance_m=100.0), progress=progress)
+        assert isinstance(caught.value, KeyboardInterrupt)  # not swallowed by except Exception
+        assert isinstance(caught.value, RunTerminated) == (signame == "SIGTERM")
+        assert caught.value.signal_name == signame
+        result = caught.value.result
         assert result.status["state"] == "interrupted"
+        assert result.summary["status"]["state"] == "interrupted"  # assessed before the raise
         assert signame in result.status["reason"]
         assert 5.0 < result.status["distance_m"] < 10.0
         assert result.timeseries.distance_m[-1] == pytest.approx(result.status["distance_m"])

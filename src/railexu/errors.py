@@ -49,3 +49,40 @@ class ComputationError(RuntimeError):
     """A computation that could not be completed for a physical or numerical reason (no
     equilibrium found, a contact that cannot be pressed): reported as a failure (exit code 1),
     not as a defect."""
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """A run or a study stopped by Ctrl-C (SIGINT): raised by ``railexu.run`` and
+    ``railexu.run_study`` after they kept what was done, so that a script (a loop of runs, a
+    test runner) stops instead of carrying on with its next line.
+
+    A subclass of :class:`KeyboardInterrupt`: ``except Exception`` does not swallow it, and
+    ``except KeyboardInterrupt`` catches it as it catches any Ctrl-C.
+
+    Attributes:
+        result: what was done: the interrupted run's ``RunResult`` (status ``interrupted``, the
+            time series up to the stop, the summary; ``railexu.write_run`` writes it) or the
+            study's ``StudyResult`` (the finished cases); None when the stop came before there
+            was any.
+        signal_name: ``"SIGINT"`` or ``"SIGTERM"``.
+    """
+
+    signal_name = "SIGINT"
+
+    def __init__(self, message: str = "", result: object = None) -> None:
+        super().__init__(message or f"interrupted ({self.signal_name})")
+        self.result = result
+
+
+class RunTerminated(RunInterrupted):
+    """A run or a study stopped by SIGTERM (``kill``, ``timeout``, a container or a CI job
+    stopped): as :class:`RunInterrupted` (whose subclass it is, so that one ``except`` clause
+    handles both stops), with ``signal_name`` ``"SIGTERM"``."""
+
+    signal_name = "SIGTERM"
+
+
+def interruption(signal_name: str, result: object = None) -> RunInterrupted:
+    """The exception for a stop by ``signal_name`` (``"SIGINT"`` or ``"SIGTERM"``)."""
+    kind = RunTerminated if signal_name == "SIGTERM" else RunInterrupted
+    return kind(result=result)

@@ -105,6 +105,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
     )
     p.add_argument("--no-plots", action="store_true", help="write data only (as --plots none)")
     p.add_argument("--quiet", action="store_true", help="no progress line")
+    p.add_argument(
+        "--no-helper-processes",
+        action="store_true",
+        help="do all the work in this one process: no warm process preparing the assessment and "
+        "the figures during the run, no forked figure writer (as RAILEXU_HELPER_PROCESSES=0; the "
+        "results are the same)",
+    )
     # the start-up's pause of the garbage collector ends in command(), after the warm process's
     # fork (railexu.runtime.gc_pause)
     p.set_defaults(func=command, resumes_collection=True)
@@ -163,9 +170,11 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
 
 def command(args: argparse.Namespace) -> int:
     # the checks that need no numerical library first: a misspelt name fails at once
+    from railexu.errors import RunInterrupted
     from railexu.inputs.catalog import find_input
     from railexu.report.file_jobs import warm_up_figures
     from railexu.report.folder import OutputFolder
+    from railexu.runtime.helpers import free_core, helpers_enabled
     from railexu.runtime.warm_process import WarmProcess
 
     formats = plot_formats(args.plots, args.no_plots)
@@ -182,7 +191,14 @@ def command(args: argparse.Namespace) -> int:
     folder = OutputFolder(args.out, "run").prepare()  # before any work: a bad --out fails now
     # a process that gets ready for the assessment and the figures while the run integrates
     # (railexu.runtime.warm_process): the results are the same as without it
-    warm = WarmProcess(_WARM_MODULES, partial(warm_up_figures, formats) if formats else None)
+    # a bad RAILEXU_HELPER_PROCESSES is told now, before the run
+    helpers = not args.no_helper_processes and helpers_enabled()
+    # without a free core the warm process would only add its processor time (issue 26)
+    warm = WarmProcess(
+        _WARM_MODULES,
+        partial(warm_up_figures, formats) if formats else None,
+        start=helpers and free_core(),
+    )
     gc_pause.resume()  # after the imports and the fork: the warm process keeps it paused
     try:
         vehicle_set, track_set = split_overrides(args.set)
@@ -212,11 +228,18 @@ def command(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
         progress = None if args.quiet else print_progress()
-        result = run(vehicle, track, settings, progress, warm)
+        try:
+            result = run(vehicle, track, settings, progress, warm)
+        except RunInterrupted as exc:  # Ctrl-C or SIGTERM: the results so far are written
+            if exc.result is None:
+                raise
+            result = exc.result
         for warning in result.summary.get("warnings", []):
             print(f"railexu run: warning: {warning}", file=sys.stderr)
         try:
-            written = write_run(result, folder, bool(formats), formats or ("png",), warm)
+            written = write_run(
+                result, folder, bool(formats), formats or ("png",), warm, None if helpers else 1
+            )
             folder.finish()
         except KeyboardInterrupt:  # Ctrl-C or SIGTERM while writing: the folder says so
             print(

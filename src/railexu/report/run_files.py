@@ -22,6 +22,7 @@ def write_run(
     plots: bool = True,
     formats: tuple[str, ...] = ("png",),
     warm: WarmProcess | None = None,
+    processes: int | None = None,
 ) -> list[Path]:
     """Write ``timeseries.csv``, ``state.npz``, the figures and then ``summary.json`` of a run
     into ``out_dir``.
@@ -41,6 +42,8 @@ def write_run(
         warm: a process started before the run that draws the figures
             (:class:`~railexu.runtime.warm_process.WarmProcess`, as ``railexu run`` does); by
             default a child forked now shares the writing.
+        processes: 1 to write every file in this process (no helper process); None: up to two
+            (:func:`railexu.report.file_jobs.write_jobs`).
 
     Raises:
         InputError: the folder is not writable, is being written by another process, or holds
@@ -48,9 +51,9 @@ def write_run(
             folder stays marked incomplete).
     """
     if isinstance(out_dir, OutputFolder):
-        return _write_into(result, out_dir, plots, formats, warm)
+        return _write_into(result, out_dir, plots, formats, warm, processes)
     with OutputFolder(out_dir, "run") as folder:
-        return _write_into(result, folder, plots, formats, warm)
+        return _write_into(result, folder, plots, formats, warm, processes)
 
 
 def _write_into(
@@ -59,6 +62,7 @@ def _write_into(
     plots: bool,
     formats: tuple[str, ...],
     warm: WarmProcess | None,
+    processes: int | None = None,
 ) -> list[Path]:
     with writing_errors(folder):
         # every name first: the manifest marks the folder incomplete with all of them listed
@@ -70,11 +74,19 @@ def _write_into(
             jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
         if plots:
             jobs += _figure_jobs(result, folder, formats)
-        write_jobs(jobs, warm=warm)
+        write_jobs(jobs, processes, warm, partial(_remove_temporaries, folder.path))
         # the summary (what the run claims) after the data it describes
         with atomic_path(summary_path) as tmp:
             write_summary(result.summary, tmp)
     return list(folder.written)
+
+
+def _remove_temporaries(folder: Path, pids: list[int]) -> None:
+    """Remove what helper processes ended in the middle of a job left: their temporary files
+    (:func:`railexu.report.folder.atomic_path` names them ``.STEM.PID.tmpSUFFIX``)."""
+    for pid in pids:
+        for path in folder.glob(f".*.{pid}.tmp*"):
+            path.unlink(missing_ok=True)
 
 
 def _csv_writer(result: RunResult, path: Path) -> Callable[[], None]:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from railexu.errors import interruption
 from railexu.operation.run_settings import RunSettings
 from railexu.simulation.simulate import (
     ProgressCallback,
@@ -63,12 +64,19 @@ def run(
     Raises:
         InputError: bad settings, an initial offset that lifts a wheel up its flange, a model
             that cannot be built.
+        RunInterrupted: Ctrl-C (SIGINT) during the integration; ``RunTerminated`` (its
+            subclass) for SIGTERM (:mod:`railexu.errors`). The run is assessed first: the
+            exception's ``result`` is this function's result, status ``interrupted``, with the
+            time series up to the stop and its summary (``railexu.write_run`` writes it). A
+            script's loop of runs stops there; ``except Exception`` does not catch it.
     """
     settings = settings or RunSettings()
     # the contacts' threads wait until the warm process has imported what it needs
     when = warm.warmed if warm is not None and warm.ready else None
     result = simulate(vehicle, track, settings, progress, when)
     result.summary = assess(result, warm)
+    if result.stopped_by is not None:
+        raise interruption(result.stopped_by, result)
     return result
 
 

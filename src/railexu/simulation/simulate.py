@@ -62,6 +62,9 @@ class RunResult:
     #: the kernel's contact points at every output time, ``(n, n_ws, 2, MAX_POINTS, fields)``
     #: with the fields of :data:`POINT_FIELDS` (wheelsets from the front), or None
     contact_points: np.ndarray | None = field(default=None, repr=False)
+    #: the signal that stopped the run (``"SIGINT"`` or ``"SIGTERM"``; status ``interrupted``),
+    #: or None: :func:`railexu.results.run.run` then raises ``railexu.errors.RunInterrupted``
+    stopped_by: str | None = None
 
 
 ProgressCallback = Callable[[float, float, float, float], None]
@@ -102,16 +105,17 @@ _STOP_SIGNALS = {"SIGINT": "Ctrl-C, SIGINT", "SIGTERM": "SIGTERM"}
 
 
 def _catch_stop_signals(rec: dict) -> dict:
-    """Let SIGINT and SIGTERM end the run at the next step (``rec["interrupted"]`` then names the
-    signal); returns the previous handlers. A signal that the process ignores (a study's worker
-    ignores SIGINT) stays ignored; outside the main thread nothing can be caught."""
+    """Let SIGINT and SIGTERM end the run at the next step (``rec["interrupted"]`` then describes
+    the signal, ``rec["signal"]`` names it); returns the previous handlers. A signal that the
+    process ignores (a study's worker ignores SIGINT) stays ignored; outside the main thread
+    nothing can be caught."""
     previous = {}
     for name, label in _STOP_SIGNALS.items():
         signum = getattr(signal, name)
         with contextlib.suppress(ValueError):
             if signal.getsignal(signum) is not signal.SIG_IGN:
                 previous[signum] = signal.signal(
-                    signum, lambda *_, label=label: rec.__setitem__("interrupted", label)
+                    signum, lambda *_, n=name, label=label: rec.update(interrupted=label, signal=n)
                 )
     return previous
 
@@ -133,8 +137,9 @@ def simulate(
 
     The run stops early with status ``derailed`` when a wheel climbs its rail or a wheelset
     leaves the track, ``diverged`` when the solver fails or the state becomes invalid, and
-    ``interrupted`` on Ctrl-C or SIGTERM; the time series up to that point is returned either
-    way. The result's ``summary`` holds the facts of the run (status, solver statistics,
+    ``interrupted`` on Ctrl-C or SIGTERM (the result's ``stopped_by`` names the signal); the
+    time series up to that point is returned either way (:func:`railexu.results.run.run` then
+    raises). The result's ``summary`` holds the facts of the run (status, solver statistics,
     settings, names, timings, warnings).
 
     Raises:
@@ -166,7 +171,7 @@ def simulate(
         model, vehicle, settings, order, n_steps // settings.output_every + 2,
         _flange_heights(model),
     )  # fmt: skip
-    wall_int, error, stop = _integrate(
+    wall_int, error, stop, stopped_by = _integrate(
         model, settings, ss, recorder, progress, contact_threads_when
     )
     status = _final_status(model, settings, recorder, error, stop)
@@ -189,7 +194,9 @@ def simulate(
         facts["warnings"] = warnings
     facts["longitudinal"] = longitudinal_summary(ts, model)
     points = recorder.contact_points()
-    return RunResult(ts, facts, status, settings, vehicle, track, timings, model, points)
+    return RunResult(
+        ts, facts, status, settings, vehicle, track, timings, model, points, stopped_by
+    )
 
 
 def _flange_heights(model: VehicleModel) -> list[float]:
@@ -237,13 +244,15 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
     """Run Exudyn's solver with recording, progress and stop signals (and the contacts' threads
     started when ``contact_threads_when()`` says so).
 
-    Returns ``(wall-clock seconds, solver exception or None, stop status or None)``."""
+    Returns ``(wall-clock seconds, solver exception or None, stop status or None, the name of
+    the stop signal or None)``. A signal that came after the last step still counts: the run
+    is then ``interrupted`` at its end (a stop request is never lost)."""
     import exudyn as exu
 
     mbs = model.mbs
     ti = ss.timeIntegration
     h = settings.time_step_s
-    rec = {"status": None, "next": 0.0, "interrupted": False}
+    rec = {"status": None, "next": 0.0, "interrupted": False, "signal": None}
     wall0 = [time.perf_counter()]
 
     def record(t: float) -> bool:
@@ -321,7 +330,10 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
         and (recorder.n == 0 or recorder.last_time < t_end - 1e-12)
     ):
         record(t_end)
-    return wall_int, error, rec["status"]
+    if rec["interrupted"] and rec["status"] is None and error is None:
+        # the signal came after the last step: the run is complete, and still it was stopped
+        rec["status"] = ("interrupted", t_end, f"interrupted ({rec['interrupted']})")
+    return wall_int, error, rec["status"], rec["signal"]
 
 
 def _final_status(model, settings, recorder, error, stop) -> dict:

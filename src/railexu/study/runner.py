@@ -6,6 +6,7 @@ import contextlib
 import json
 import math
 import os
+import signal
 import sys
 import time
 import warnings
@@ -14,6 +15,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from railexu.errors import RunInterrupted, RunTerminated
 from railexu.study.errors import StudyError, StudyWarning
 from railexu.study.execution import _dask_client, _run_dask, _run_inline, _run_local
 from railexu.study.folder import (
@@ -186,7 +188,11 @@ def run_study(
         StudyError: the output folder holds another study's results or is in use, bad
             ``workers``, no connection to the scheduler.
         ImportError: ``scheduler`` given but dask.distributed is not installed.
-        KeyboardInterrupt: after cancelling the pending cases (finished rows are kept).
+        RunInterrupted: Ctrl-C (SIGINT), or ``RunTerminated`` (its subclass) for SIGTERM
+            (:mod:`railexu.errors`; both are ``KeyboardInterrupt``), after cancelling the
+            pending cases and ending the workers: the finished rows are kept in results.csv
+            and the exception's ``result`` is a :class:`StudyResult` with them (``ran`` and
+            ``skipped`` 0: the study did not finish). Running it again resumes it.
     """
     t0 = time.perf_counter()
     if not isinstance(study, Study):
@@ -196,6 +202,58 @@ def run_study(
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise StudyError(f"workers must be an integer >= 0, got {workers!r}")
     out = Path(out_dir)
+    try:
+        with _sigterm_raises():
+            return _run_study(study, out, workers, scheduler, progress, retry_failed, t0)
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM: the finished cases are kept
+        kind = type(exc) if isinstance(exc, RunInterrupted) else RunInterrupted
+        raise kind(result=_finished_so_far(study, out, t0)) from exc
+
+
+@contextlib.contextmanager
+def _sigterm_raises():
+    """SIGTERM raises :class:`~railexu.errors.RunTerminated` in this (main) thread while the
+    study runs, so that it stops as on Ctrl-C: the pending cases cancelled, the workers ended,
+    the finished rows kept, nothing leaked (its default would end the process at once, with
+    exit code 143 and the pool's semaphores left behind). Outside the main thread, or when the
+    process ignores SIGTERM, nothing changes."""
+
+    def stop(signum, frame):
+        raise RunTerminated()
+
+    installed = False
+    previous = signal.getsignal(signal.SIGTERM)
+    if previous is not signal.SIG_IGN:
+        with contextlib.suppress(ValueError):  # not the main thread
+            signal.signal(signal.SIGTERM, stop)
+            installed = True
+    try:
+        yield
+    finally:
+        if installed:
+            signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
+
+
+def _finished_so_far(study: Study, out: Path, t0: float) -> StudyResult | None:
+    """The :class:`StudyResult` of an interrupted study: the rows of results.csv (the cases
+    finished now and before); None when it cannot be read."""
+    try:
+        rows = read_results(out / RESULTS_CSV) if (out / RESULTS_CSV).exists() else []
+    except Exception:  # a results.csv of another study, unreadable: nothing to attach
+        return None
+    return StudyResult(study, out, rows, ran=0, skipped=0, elapsed_s=time.perf_counter() - t0)
+
+
+def _run_study(
+    study: Study,
+    out: Path,
+    workers: int,
+    scheduler: Any,
+    progress: StudyProgressCallback | None,
+    retry_failed: bool,
+    t0: float,
+) -> StudyResult:
+    """:func:`run_study` once its arguments are checked."""
     out.mkdir(parents=True, exist_ok=True)
     study = with_input_files(study)
     cases = study.cases()

@@ -17,6 +17,7 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
+from railexu.errors import RunInterrupted
 from railexu.runtime.threads import run_serially_in_this_process
 from railexu.study.folder import _write_json
 from railexu.study.spec import RESULT_FILES, Case, Study
@@ -197,6 +198,9 @@ def _run_case(task: _Task) -> dict:
         )
         status, result = _execute(task, case_dir)
         outcome.update(status=status, result=result)
+    except RunInterrupted as exc:  # a stop, not a result: the case is not recorded
+        # without the run (its model cannot be pickled back from a worker process)
+        raise type(exc)() from None
     except Exception as exc:  # any failure of a case is recorded, not raised
         outcome["error"] = _error_text(exc)
         with contextlib.suppress(OSError):
