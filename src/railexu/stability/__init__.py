@@ -19,6 +19,11 @@ wheelsets and bogies. Three ways to find it (``docs/assessment.md`` and ``docs/v
   when the lateral motion of a wheelset over the last 10 % of the distance still exceeds a
   threshold amplitude (3 mm by default) or grows; bisection between a stable and an unstable
   speed. Deterministic: the same inputs give the same speed.
+- **branch** (:func:`branch_critical_speed`): the limit-cycle branch followed as speed
+  falls (settle, measure, lower the speed, restart from the amplitude found); each run
+  classified by the growth rate of its fitted envelope (:func:`classify_run`); the lowest
+  speed with a limit cycle is the nonlinear critical speed. Bisection judges its runs the same
+  way.
 - **ramp** (:func:`ramp_critical_speed`): start above the critical speed from a disturbance,
   let the hunting settle, then decelerate slowly; the speed at which the limit cycle vanishes
   (its amplitude falls below the threshold for good) is the nonlinear critical speed from
@@ -47,6 +52,8 @@ from railexu.stability.linear import (
 )
 from railexu.stability.nonlinear import (
     bisection_critical_speed,
+    branch_critical_speed,
+    classify_run,
     nonlinear_run_is_stable,
     ramp_critical_speed,
 )
@@ -73,6 +80,8 @@ __all__ = [
     "StabilityError",
     "_jsonable",
     "bisection_critical_speed",
+    "branch_critical_speed",
+    "classify_run",
     "body_roles",
     "compare_linear_nonlinear",
     "critical_speed",
