@@ -26,6 +26,7 @@ from railexu.stability import (
     profile_equivalent_conicity,
     ramp_critical_speed,
 )
+from railexu.stability.modes import mac, track_branches, unstable_bands
 from railexu.track.track import Track
 from railexu.vehicle.vehicle import load_vehicle
 
@@ -252,7 +253,8 @@ def test_soft_secondary_damping_reports_the_car_body_mode():
     data = {"linear_m_per_s": result["critical_speed_m_per_s"], "linear": result,
             "nonlinear_bisection_m_per_s": 60.0, "nonlinear_ramp_m_per_s": None}  # fmt: skip
     note = compare_linear_nonlinear(data, settings)
-    assert "car-body yaw" in note and "secondary suspension" in note and "threshold" in note
+    # in the vehicle's own words: its suspension elements joined to the car body by name
+    assert "car-body yaw" in note and "secondary_1" in note and "secondary suspension" not in note
 
 
 def test_comparison_words():
@@ -267,3 +269,114 @@ def test_comparison_words():
     assert "subcritical" in compare(50.0, 35.0)
     assert "equivalent conicity" in compare(50.0, 70.0)
     assert compare(None, 35.0) is None and compare(50.0, None) is None
+
+
+class _FakeMode:
+    """A mode with a shape, frequency and damping ratio (for the tracking tests)."""
+
+    def __init__(self, shape, frequency_Hz, damping_ratio, name="car-body yaw"):
+        self.shape = np.asarray(shape, dtype=complex)
+        self.frequency_Hz = frequency_Hz
+        self.damping_ratio = damping_ratio
+        self.name = name
+
+
+def test_modes_are_followed_by_shape_not_by_frequency_order():
+    """Two modes whose frequencies cross between speeds (3 Hz rising to 9 Hz, 6 Hz staying):
+    MAC links each to its own shape, so the branch of shape a goes 3 -> 5 -> 9 Hz although at
+    the second speed it is the lower and at the third the higher one; MAC of orthogonal shapes
+    is 0, of equal ones 1, of a shape turned by a complex factor 1."""
+    a, b = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])
+    assert mac(a, 2j * a) == pytest.approx(1.0) and mac(a, np.array([0.0, 0.0, 1.0])) == 0.0
+    per_speed = [
+        [_FakeMode(a, 3.0, 0.1), _FakeMode(b, 6.0, 0.2)],
+        [_FakeMode(b, 6.0, 0.15), _FakeMode(a + 0.05, 5.0, 0.05)],
+        [_FakeMode(a, 9.0, -0.01), _FakeMode(b + 0.1, 6.1, 0.1)],
+    ]
+    branches = track_branches(per_speed)
+    freqs = sorted([[b.modes[k].frequency_Hz for k in sorted(b.modes)] for b in branches])
+    assert freqs == [[3.0, 5.0, 9.0], [6.0, 6.0, 6.1]]
+
+
+def test_a_narrow_unstable_band_is_reported_as_a_band():
+    """A branch unstable only between 12.5 and 17.5 m/s (damping -0.001 at 15 m/s, as the
+    wagon's car-body yaw): one band with both ends refined (linear in between here, so the
+    secant steps land on the exact zeros 13.75 and 15.83 m/s) and not "stays unstable"."""
+    speeds = [10.0, 12.5, 15.0, 17.5, 20.0]
+    zeta = {10.0: 0.01, 12.5: 0.001, 15.0: -0.001, 17.5: 0.002, 20.0: 0.02}
+
+    def z_of(v):  # piecewise linear through the points
+        return float(np.interp(v, speeds, [zeta[s] for s in speeds]))
+
+    shape = np.array([1.0, 0.0])
+    branch = track_branches([[_FakeMode(shape, 1.0, zeta[v])] for v in speeds])[0]
+
+    def modes_at(v):
+        return [_FakeMode(shape, 1.0, z_of(v))]
+
+    bands = unstable_bands(speeds, branch, modes_at, 0.1)
+    assert len(bands) == 1
+    lo, hi = bands[0]
+    assert lo == pytest.approx(12.5 + 2.5 * 0.001 / 0.002, abs=0.01)
+    assert hi == pytest.approx(15.0 + 2.5 * 0.001 / 0.003, abs=0.01)
+
+
+def _fake_runs(monkeypatch, fold: float):
+    """Replace the runs by a limit-cycle branch that exists above ``fold`` m/s (amplitude
+    ``1 mm sqrt(v - fold)``) and decays below it; returns the list of calls."""
+    import railexu.stability.nonlinear as nl
+
+    calls = []
+
+    def fake(vehicle, track, speed, settings, offset_m=None):
+        calls.append((speed, offset_m))
+        cycle = speed >= fold
+        amp = 1e-3 * np.sqrt(speed - fold) if cycle else 0.2e-3
+        return {"speed_m_per_s": speed, "stable": not cycle, "amplitude_m": amp,
+                "classification": "limit cycle" if cycle else "decaying",
+                "growth_per_period": 0.0 if cycle else -0.05, "frequency_Hz": 3.0}  # fmt: skip
+
+    monkeypatch.setattr(nl, "nonlinear_run_is_stable", fake)
+    return calls
+
+
+def test_branch_follows_the_limit_cycle_down_to_its_fold(monkeypatch):
+    """Stepping down from 60 m/s by 5 m/s and halving where the cycle is lost brackets the fold
+    (33.3 m/s) within the 1 m/s tolerance; each speed restarts from the amplitude found above;
+    with a budget of 3 runs the branch says it has not converged."""
+    from railexu.stability import branch_critical_speed
+
+    calls = _fake_runs(monkeypatch, 33.3)
+    settings = CriticalSpeedSettings(methods=("branch",), speed_min_m_per_s=20.0,
+                                     speed_max_m_per_s=60.0, tolerance_m_per_s=1.0)  # fmt: skip
+    result = branch_critical_speed(None, None, settings)
+    lo, hi = result["bracket_m_per_s"]
+    assert result["converged"] and lo < 33.3 <= hi and hi - lo <= 1.0
+    assert result["critical_speed_m_per_s"] == hi
+    assert calls[1] == (55.0, pytest.approx(1e-3 * np.sqrt(60.0 - 33.3)))
+    assert "growth rate" in result["judged_by"] and "restarts" in result["disturbance"]
+    calls.clear()
+    short = branch_critical_speed(None, None, replace(settings, max_runs=3))
+    assert not short["converged"] and "not converged: 3 runs" in short["note"]
+
+
+def test_growth_rate_classification_of_a_bogie_branch():
+    """The EU07 bogie on S1002/UIC60 1:40, from a 5 mm disturbance at 55 m/s: the limit cycle
+    is followed down below the linear critical speed of the bogie alone (44 m/s, docs/
+    validation.md): hunting of these profiles is subcritical (True 1999), so the lowest speed
+    of the branch lies below the linear value, and the runs above it are limit cycles whose
+    growth per period is within +-1 %."""
+    from railexu.stability import branch_critical_speed
+
+    vehicle = load_vehicle(VEHICLES / "eu07_bogie.yaml")
+    settings = CriticalSpeedSettings(
+        methods=("branch",), speed_min_m_per_s=25.0, speed_max_m_per_s=55.0,
+        branch_step_m_per_s=10.0, tolerance_m_per_s=5.0, distance_m=150.0,
+        initial_lateral_m=0.005, max_runs=6,
+    )  # fmt: skip
+    result = branch_critical_speed(vehicle, None, settings)
+    v = result["critical_speed_m_per_s"]
+    assert v is not None and 25.0 <= v < 44.0, result
+    for p in result["branch"]:
+        if p["classification"] == "limit cycle":
+            assert abs(p["growth_per_period"]) <= 0.01

@@ -127,11 +127,17 @@ def _linear_lines(lin: dict, note: str) -> list[str]:
     if persistent is not None and persistent != lin.get("critical_speed_m_per_s"):
         lines.append(f"linear, a mode stays unstable above: {_fmt(persistent)} "
                      f"({lin.get('persistent_mode')} mode)")  # fmt: skip
+    damped = []
     for name, m in (lin.get("modes") or {}).items():
         bands = m.get("unstable_bands_m_per_s") or []
-        where = "; ".join(_band_text(b) for b in bands) if bands else "damped over the range"
+        if not bands:
+            damped.append(name)
+            continue
+        where = "; ".join(_band_text(b) for b in bands)
         energy = ", ".join(f"{k} {v:.0%}" for k, v in (m.get("energy") or {}).items())
         lines.append(f"  {name}: {where}" + (f"  (energy: {energy})" if energy else ""))
+    if damped:
+        lines.append(f"  damped over the range: {', '.join(damped)}")
     table = lin.get("least_damped") or []
     if table:
         lines.append("  least damped modes per speed (damping ratio, frequency):")

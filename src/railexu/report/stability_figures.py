@@ -9,6 +9,8 @@ from matplotlib.figure import Figure
 _MODE_STYLE = {
     "wheelset hunting": ("tab:red", "o"),
     "bogie hunting": ("tab:orange", "s"),
+    "wheelset yaw": ("tab:brown", "o"),
+    "bogie yaw": ("tab:cyan", "s"),
     "car-body lateral": ("tab:blue", "^"),
     "car-body yaw": ("tab:green", "D"),
     "car-body roll": ("tab:purple", "v"),

@@ -126,8 +126,11 @@ def _car_body_words(lin: dict, mode: str) -> str:
     is unstable only in one."""
     elements = lin.get("car_body_suspension") or []
     on = f" on {', '.join(elements[:4])}" + (" and others" if len(elements) > 4 else "")
-    text = f"the linear value belongs to the weakly damped {mode} mode, a motion of the car body"
-    text += (on if elements else "") + "."
+    name = (lin.get("modes") or {}).get(mode, {}).get("name", mode)
+    text = f"the linear value belongs to the weakly damped {mode} mode"
+    if name.startswith("car-body"):
+        text += ", a motion of the car body" + (on if elements else "")
+    text += "."
     band = lin.get("critical_band_m_per_s")
     if band and band[1] is not None:
         text += f" It is unstable only between {band[0]:.1f} and {band[1]:.1f} m/s."

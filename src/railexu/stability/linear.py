@@ -77,8 +77,8 @@ def linear_model_vehicle(vehicle: Vehicle, track: Track, settings: CriticalSpeed
 
 
 #: The names of the lateral modes the linear analysis follows (participation decides).
-MODE_NAMES = ("wheelset hunting", "bogie hunting", "car-body lateral", "car-body yaw",
-              "car-body roll")  # fmt: skip
+MODE_NAMES = ("wheelset hunting", "bogie hunting", "wheelset yaw", "bogie yaw",
+              "car-body lateral", "car-body yaw", "car-body roll")  # fmt: skip
 HUNTING_MODES = ("wheelset hunting", "bogie hunting")
 #: Oscillatory modes between these frequencies (Hz) are followed.
 MODE_FREQUENCY_HZ = (0.05, 30.0)
@@ -154,20 +154,32 @@ def _coordinate_groups(model: VehicleModel, by_body: bool = False) -> dict[str, 
     return groups
 
 
+#: A running-gear mode in which one motion of one kind of part (the frames' yaw, say) holds at
+#: least this share of the running gear's lateral and yaw energy is named by it ("bogie yaw"),
+#: not hunting (railexu's choice; in hunting the lateral motion carries most of the kinetic
+#: energy, the yaw little: ``I psi'^2 / m y'^2`` is ``(I / m) (2 pi / L)^2``, a few per cent).
+SINGLE_MOTION_SHARE = 0.8
+
+
 def name_mode(shares: dict) -> str | None:
-    """The name of a mode from the shares of its kinetic energy (``role:motion`` -> share):
-    None when less than half of it is lateral (lateral, yaw, roll); hunting when the wheelsets'
-    and bogie frames' lateral and yaw motion holds at least half of the lateral part (bogie
-    hunting when the frames hold more of it than the wheelsets); else the car body's largest
-    motion (lateral, yaw or roll)."""
+    """The name of a mode from the shares of its energy (``role:motion`` -> share): None when
+    less than half of it is lateral (lateral, yaw, roll). When the wheelsets' and bogie frames'
+    lateral and yaw motion hold at least half of the lateral part it is a running-gear mode,
+    of the bogies when the frames hold more of it than the wheelsets: hunting, unless the yaw
+    of the frames (or of the wheelsets) alone holds :data:`SINGLE_MOTION_SHARE` of it (``bogie
+    yaw``, ``wheelset yaw``). Else the car body's largest motion (lateral, yaw or roll)."""
     lateral = {k: v for k, v in shares.items() if not k.endswith(":other")}
     total_lateral = sum(lateral.values())
     if total_lateral < LATERAL_ENERGY_SHARE:
         return None
     wheelsets = shares.get("wheelset:lateral", 0.0) + shares.get("wheelset:yaw", 0.0)
     bogies = shares.get("bogie:lateral", 0.0) + shares.get("bogie:yaw", 0.0)
-    if wheelsets + bogies >= 0.5 * total_lateral:
-        return "bogie hunting" if bogies > wheelsets else "wheelset hunting"
+    gear = wheelsets + bogies
+    if gear >= 0.5 * total_lateral:
+        part = "bogie" if bogies > wheelsets else "wheelset"
+        if shares.get(f"{part}:yaw", 0.0) >= SINGLE_MOTION_SHARE * gear:
+            return f"{part} yaw"
+        return f"{part} hunting"
     body = {m: shares.get(f"car_body:{m}", 0.0) for m in ("lateral", "yaw", "roll")}
     return f"car-body {max(body, key=body.get)}"
 
@@ -285,6 +297,7 @@ def linear_stability(
     branches = track_branches(per_speed)
     label_branches(branches)
     modes_out = {b.label: _branch_summary(b, speeds, modes_at, settings) for b in branches}
+    modes_out = dict(sorted(modes_out.items(), key=_mode_order))
     out = _critical_of(modes_out)
     hunting = [min((b.modes[k] for b in branches if k in b.modes and b.modes[k].name in
                     HUNTING_MODES), key=lambda m: m.damping_ratio, default=None)
@@ -353,6 +366,14 @@ def _branch_summary(branch, speeds: list[float], modes_at, settings) -> dict:
         "stable_in_range": bool(finite and all(z > 0.0 for z in finite)),
         "unstable_in_range": bool(finite and all(z <= 0.0 for z in finite)),
     }
+
+
+def _mode_order(item) -> tuple:
+    """Modes that become unstable first (by speed), then the others by their least damping."""
+    _, m = item
+    crit = m["critical_speed_m_per_s"]
+    least = min((z for z in m["damping_ratio"] if math.isfinite(z)), default=math.inf)
+    return (crit is None, crit if crit is not None else 0.0, least)
 
 
 def _critical_of(modes: dict) -> dict:
