@@ -189,12 +189,13 @@ def test_settings_from_dict_and_cli(tmp_path, capsys):
         assert (out / f"{name}.png").exists() and (out / f"{name}.svg").exists()
     text = capsys.readouterr().out
     assert "linear:" in text and "bogie hunting mode" in text
-    # figure content: one damping line per named mode, the crossing starred; the root locus
+    # figure content: one damping line per followed mode, each crossing starred; the root locus
     # has one scatter per mode, damping ratio against frequency, and a speed colour bar
     figs = critical_speed_figures(data)
     ax = figs["linear_stability"].axes[0]
     assert ax.get_ylabel() == "damping ratio [-]"
-    assert len([ln for ln in ax.get_lines() if ln.get_marker() == "*"]) == 1
+    crossing = [m for m in modes.values() if m["critical_speed_m_per_s"] is not None]
+    assert len([ln for ln in ax.get_lines() if ln.get_marker() == "*"]) == len(crossing)
     assert len(ax.get_legend().get_texts()) == len(modes)
     rl = figs["root_locus"].axes
     assert rl[0].get_xlabel() == "frequency [Hz]" and rl[0].get_ylabel() == "damping ratio [-]"

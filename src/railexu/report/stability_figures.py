@@ -48,6 +48,7 @@ _CLASS_STYLE = {
     "growing": ("tab:red", "^", "growing"),
     "large broad-band": ("tab:red", "x", "large, irregular"),
     "decaying": ("tab:blue", "v", "decaying (no limit cycle)"),
+    "small limit cycle": ("tab:blue", "s", "small limit cycle (not hunting)"),
     "below floor": ("tab:blue", "o", "below floor"),
 }
 

@@ -5,8 +5,8 @@ and the ramp method (the speed at which a hunting limit cycle vanishes on a slow
 Every run is judged by the growth rate of its oscillation (:func:`classify_run`: the fitted
 envelope of :func:`railexu.assessment.oscillation.fit_oscillation` over the last part of the
 run), not by whether an amplitude threshold is reached within the run: a slowly growing
-oscillation is unstable however small it still is at the end, a limit cycle is unstable
-(hunting) whatever its amplitude, a decaying one is stable."""
+oscillation is unstable however small it still is at the end, a limit cycle of at least
+``limit_cycle_floor_m`` is hunting, a decaying one is stable."""
 
 from __future__ import annotations
 
@@ -51,11 +51,14 @@ def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
     time is fitted (:func:`~railexu.assessment.oscillation.fit_oscillation`, floor
     ``settings.floor_m``); the wheelset with the largest fitted amplitude decides:
     ``growing`` (more than 1 % amplitude growth per period), ``limit cycle`` (sustained: less
-    than 1 % change per period), ``decaying``, ``below floor`` or, for a motion that is not
-    one oscillation (``broad-band``), ``large broad-band`` above ``settings.threshold_m`` (an
-    unstable, irregular motion) else ``broad-band``. Returns the classification, whether it is
-    stable, the fitted ``amplitude_m`` (envelope at the end), ``growth_rate_per_s``,
-    ``growth_per_period``, ``frequency_Hz``, the deciding ``wheelset`` and the fit's window."""
+    than 1 % change per period), ``small limit cycle`` (sustained, but smaller than
+    ``settings.limit_cycle_floor_m``: the small oscillation of a profile pair near its centre,
+    not hunting; stable for the critical speed, railexu's assumption), ``decaying``, ``below
+    floor`` or, for a motion that is not one oscillation (``broad-band``), ``large broad-band``
+    above ``settings.threshold_m`` (an unstable, irregular motion) else ``broad-band``. Returns
+    the classification, whether it is stable, the fitted ``amplitude_m`` (envelope at the
+    end), ``growth_rate_per_s``, ``growth_per_period``, ``frequency_Hz``, the deciding
+    ``wheelset`` and the fit's window."""
     t = ts.time_s
     start = t[0] + (1.0 - settings.fit_fraction) * (t[-1] - t[0])
     inside = t >= start
@@ -68,6 +71,8 @@ def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
         return {"classification": "no wheelsets", "stable": True}
     i, fit = best
     status = {"sustained": "limit cycle"}.get(fit.status, fit.status)
+    if status == "limit cycle" and fit.amplitude < settings.limit_cycle_floor_m:
+        status = "small limit cycle"
     if status == "broad-band" and fit.amplitude > settings.threshold_m:
         status = "large broad-band"
     unstable = status in (*UNSTABLE_CLASSES, "large broad-band")
@@ -127,9 +132,11 @@ def _judgement(settings: CriticalSpeedSettings) -> str:
     return (
         f"each run {settings.distance_m:g} m; classified by the growth rate of the fitted "
         f"envelope of the wheelsets' lateral displacement over the last "
-        f"{settings.fit_fraction:.0%} of the run's time (growing or limit cycle: unstable; "
-        f"decaying or below {settings.floor_m * 1e3:g} mm: stable; +-1 % per period counts as "
-        "a limit cycle)"
+        f"{settings.fit_fraction:.0%} of the run's time (growing above "
+        f"{settings.floor_m * 1e3:g} mm, or a limit cycle of at least "
+        f"{settings.limit_cycle_floor_m * 1e3:g} mm: unstable; decaying, below "
+        f"{settings.floor_m * 1e3:g} mm or a smaller limit cycle: stable; +-1 % per period "
+        "counts as a limit cycle)"
     )
 
 

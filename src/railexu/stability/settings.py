@@ -39,6 +39,9 @@ class CriticalSpeedSettings:
         fit_fraction: share of each nonlinear run's time (its end) over which the
             oscillation's envelope is fitted for the growth-rate classification.
         floor_m: amplitude below which a nonlinear run's oscillation counts as none (stable).
+        limit_cycle_floor_m: a sustained oscillation (limit cycle) smaller than this is a small
+            limit cycle, not hunting (railexu's assumption: the run summary's 1 mm hunting
+            threshold); a growing oscillation is unstable whatever its amplitude.
     """
 
     methods: tuple[str, ...] = METHODS
@@ -58,6 +61,7 @@ class CriticalSpeedSettings:
     max_runs: int = 30
     fit_fraction: float = 0.5
     floor_m: float = 1.0e-4
+    limit_cycle_floor_m: float = 1.0e-3
 
     def __post_init__(self) -> None:
         for m in self.methods:
@@ -81,8 +85,8 @@ class CriticalSpeedSettings:
             raise StabilityError("max_runs must be >= 2")
         if not 0.1 <= self.fit_fraction <= 0.9:
             raise StabilityError("fit_fraction must be between 0.1 and 0.9")
-        if not self.floor_m > 0.0:
-            raise StabilityError("floor must be > 0 m")
+        if not 0.0 < self.floor_m <= self.limit_cycle_floor_m:
+            raise StabilityError("need 0 < floor <= limit_cycle_floor")
 
 
 CRITICAL_SPEED_KEYS = (
@@ -103,6 +107,7 @@ CRITICAL_SPEED_KEYS = (
     "max_runs",
     "fit_fraction",
     "floor",
+    "limit_cycle_floor",
 )
 
 
@@ -150,6 +155,9 @@ def critical_speed_settings_from_dict(
             "fit_fraction", "", default=d.fit_fraction, minimum=0.1, maximum=0.9
         ),
         floor_m=sec.quantity("floor", "m", default=d.floor_m, positive=True),
+        limit_cycle_floor_m=sec.quantity(
+            "limit_cycle_floor", "m", default=d.limit_cycle_floor_m, positive=True
+        ),
     )
     try:
         return CriticalSpeedSettings(**kwargs)
