@@ -73,3 +73,38 @@ def test_every_sustained_oscillation_is_reported_and_named():
     assert not result.detected
     assert result.verdict == "sustained oscillation below the hunting threshold"
     assert result.to_dict()["oscillations"][0]["signal"] == "ws2_lateral_m"
+
+
+def test_a_run_summary_names_the_sustained_oscillation_of_its_rear_wheelset():
+    """Through the run's assessment (``summarize``): in a curve at 30 m/s the front wheelset
+    sits still in flange contact (contact angle 1.2 rad), the rear one oscillates at 7.7 Hz with
+    +-0.9 mm about its 3 mm curving position, below the 1 mm hunting threshold: the summary
+    lists it (in tread contact) and its verdict is not "below threshold"."""
+    from railexu.results.evaluate import summarize
+    from railexu.simulation.timeseries import TimeSeries
+
+    t = np.arange(0.0, 6.0, 0.002)
+    cols = {"time_s": t, "distance_m": 30.0 * t}
+    lateral = {1: np.full_like(t, 0.008), 2: 0.003 + 0.9e-3 * np.sin(2 * np.pi * 7.7 * t)}
+    for i in (1, 2):
+        cols[f"ws{i}_lateral_m"] = lateral[i]
+        cols[f"ws{i}_yaw_rad"] = np.zeros_like(t)
+        for side in ("left", "right"):
+            cols[f"ws{i}_{side}_Y_N"] = np.zeros_like(t)
+            cols[f"ws{i}_{side}_Q_N"] = np.full_like(t, 50e3)
+            cols[f"ws{i}_{side}_n_contacts"] = np.ones_like(t)
+            angle = 1.2 if (i, side) == (1, "left") else 0.03
+            cols[f"ws{i}_{side}_max_angle_rad"] = np.full_like(t, angle)
+    summary = summarize(
+        TimeSeries(cols), wheelset_names=["ws1", "ws2"], status={"state": "completed"},
+        realtime_factor=1.0, speed_m_per_s=30.0, friction=0.3, flange_angle_rad=1.22,
+        static_axle_loads_N=[100e3, 100e3],
+    ).to_dict()  # fmt: skip
+    hunting = summary["hunting"]
+    assert not hunting["detected"]
+    assert hunting["verdict"] == "sustained oscillation below the hunting threshold"
+    (osc,) = hunting["oscillations"]
+    assert osc["signal"] == "ws2_lateral_m" and osc["label"] == "oscillation in tread contact"
+    assert osc["frequency_Hz"] == pytest.approx(7.7, rel=0.005)
+    assert osc["amplitude"] == pytest.approx(0.9e-3, rel=0.02)
+    assert osc["offset"] == pytest.approx(0.003, abs=1e-5)
