@@ -384,3 +384,28 @@ def test_growth_rate_classification_of_a_bogie_branch():
     for p in result["branch"]:
         if p["classification"] == "limit cycle":
             assert abs(p["growth_per_period"]) <= 0.01
+
+
+def test_bifurcation_diagram_marks_the_branch_and_the_linear_speed(tmp_path):
+    """The figure of the branch: amplitude in mm against speed in m/s, one marker per run,
+    the branch's and the linear critical speeds as vertical lines; the JSON is written."""
+    from railexu.report.stability_files import write_critical_speed
+
+    points = [{"speed_m_per_s": v, "classification": c, "amplitude_m": a, "stable": s}
+              for v, c, a, s in ((45.0, "limit cycle", 7e-3, False), (35.0, "limit cycle", 3e-3,
+                                  False), (25.0, "decaying", 1e-4, True))]  # fmt: skip
+    result = {"vehicle": "v", "branch": {"branch": points, "critical_speed_m_per_s": 35.0,
+                                         "converged": False},
+              "linear": None, "nonlinear_branch_m_per_s": 35.0}  # fmt: skip
+    result["linear"] = {"critical_speed_m_per_s": 44.0, "persistent_critical_speed_m_per_s": 44.0}
+    fig = critical_speed_figures({**result, "linear": None})["bifurcation_diagram"]
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "speed [m/s]" and "[mm]" in ax.get_ylabel()
+    assert "NOT CONVERGED" in ax.get_title()
+    fig = critical_speed_figures({**result, "linear": {**result["linear"], "speeds_m_per_s": [],
+                                                       "modes": {"a": {"damping_ratio": [],
+                                                       "frequency_Hz": []}}}})  # fmt: skip
+    labels = fig["bifurcation_diagram"].axes[0].get_legend_handles_labels()[1]
+    assert "linear: 44.0 m/s" in labels and "nonlinear (branch): 35.0 m/s" in labels
+    written = write_critical_speed({**result, "linear": None}, tmp_path, plots=False)
+    assert json.loads(written[0].read_text())["nonlinear_branch_m_per_s"] == 35.0
