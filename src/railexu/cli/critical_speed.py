@@ -108,8 +108,15 @@ def summary_lines(result: dict, methods) -> list[str]:
             lines.extend(_linear_lines(section, note))
         else:
             lines.append(f"{label}: {_fmt(result.get(key))}" + (f"  [{note}]" if note else ""))
+            if section.get("disturbance"):
+                lines.append(f"  disturbance: {section['disturbance']}")
             if section.get("judged_by"):
                 lines.append(f"  judged by: {section['judged_by']}")
+            for p in section.get("branch") or []:
+                amp = p.get("amplitude_m")
+                amp_text = f"{amp * 1e3:.2f} mm" if amp is not None else "-"
+                speed = p["speed_m_per_s"]
+                lines.append(f"    {speed:6.2f} m/s: {p['classification']}, {amp_text}")
     return lines
 
 
