@@ -220,6 +220,15 @@ def test_modes_are_named_by_their_participation():
     )
     assert name_mode({"car_body:roll": 0.5, "car_body:lateral": 0.4}) == "car-body roll"
     assert name_mode({"car_body:other": 0.8, "car_body:lateral": 0.2}) is None  # vertical
+    # the frames' yaw alone: not hunting; a vehicle without a car body gets no car-body name
+    assert name_mode({"bogie:yaw": 0.9, "wheelset:lateral": 0.05}) == "bogie yaw"
+    assert name_mode({"bogie:roll": 0.6, "bogie:lateral": 0.2, "wheelset:lateral": 0.1}) == (
+        "bogie roll"
+    )
+    settings = CriticalSpeedSettings(methods=("linear",), speed_min_m_per_s=20.0,
+                                     speed_max_m_per_s=40.0, linear_points=2)  # fmt: skip
+    names = {m["name"] for m in linear_stability(bogie, None, settings)["modes"].values()}
+    assert names and not any(n.startswith("car-body") for n in names)
 
 
 def test_soft_secondary_damping_reports_the_car_body_mode():

@@ -80,6 +80,8 @@ def linear_model_vehicle(vehicle: Vehicle, track: Track, settings: CriticalSpeed
 MODE_NAMES = ("wheelset hunting", "bogie hunting", "wheelset yaw", "bogie yaw",
               "car-body lateral", "car-body yaw", "car-body roll")  # fmt: skip
 HUNTING_MODES = ("wheelset hunting", "bogie hunting")
+#: How a role is written in a mode's name.
+ROLE_WORDS = {"car_body": "car-body", "bogie": "bogie", "wheelset": "wheelset"}
 #: Oscillatory modes between these frequencies (Hz) are followed.
 MODE_FREQUENCY_HZ = (0.05, 30.0)
 #: A mode is followed when this share of its kinetic energy is in the lateral plane (lateral
@@ -167,7 +169,8 @@ def name_mode(shares: dict) -> str | None:
     lateral and yaw motion hold at least half of the lateral part it is a running-gear mode,
     of the bogies when the frames hold more of it than the wheelsets: hunting, unless the yaw
     of the frames (or of the wheelsets) alone holds :data:`SINGLE_MOTION_SHARE` of it (``bogie
-    yaw``, ``wheelset yaw``). Else the car body's largest motion (lateral, yaw or roll)."""
+    yaw``, ``wheelset yaw``). Else the largest share's part and motion (``car-body yaw``,
+    ``bogie roll``): only parts the vehicle has appear in a name."""
     lateral = {k: v for k, v in shares.items() if not k.endswith(":other")}
     total_lateral = sum(lateral.values())
     if total_lateral < LATERAL_ENERGY_SHARE:
@@ -180,8 +183,9 @@ def name_mode(shares: dict) -> str | None:
         if shares.get(f"{part}:yaw", 0.0) >= SINGLE_MOTION_SHARE * gear:
             return f"{part} yaw"
         return f"{part} hunting"
-    body = {m: shares.get(f"car_body:{m}", 0.0) for m in ("lateral", "yaw", "roll")}
-    return f"car-body {max(body, key=body.get)}"
+    largest = max(lateral, key=lateral.get)
+    role, motion = largest.split(":")
+    return f"{ROLE_WORDS.get(role, role)} {motion}"
 
 
 def _energy_shares(M, Ks, lam: complex, x: np.ndarray) -> np.ndarray:
