@@ -109,8 +109,8 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
             "the nonlinear value is lower: a subcritical bifurcation. The wheel-rail contact is "
             "nonlinear (the conicity grows with the amplitude towards the flange), so a "
             f"disturbance of {settings.initial_lateral_m * 1e3:g} mm settles into a limit cycle "
-            "below the speed at which small motions become unstable; the ramp method shows "
-            "where that limit cycle vanishes."
+            "below the speed at which small motions become unstable; the limit-cycle branch "
+            "(and the ramp) show where that limit cycle vanishes."
         )
     return head + (
         "the nonlinear value is higher: the linear analysis uses the equivalent conicity at "
