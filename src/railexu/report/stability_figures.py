@@ -132,7 +132,7 @@ def _root_locus_figure(lin: dict, title: str) -> Figure:
     mappable = None
     for name in dict.fromkeys(p[3] for p in points):
         sel = [p for p in points if p[3] == name]
-        _, marker = _MODE_STYLE.get(name, ("k", "o"))
+        _, marker = _MODE_STYLE.get(name.rstrip("0123456789 "), ("k", "o"))
         mappable = ax.scatter([p[1] for p in sel], [p[2] for p in sel], c=[p[0] for p in sel],
                               cmap="viridis", vmin=lo, vmax=hi, marker=marker, s=28,
                               edgecolors="k", linewidths=0.3, label=name)  # fmt: skip
