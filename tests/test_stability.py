@@ -26,6 +26,7 @@ from railexu.stability import (
     profile_equivalent_conicity,
     ramp_critical_speed,
 )
+from railexu.stability.modes import mac, track_branches, unstable_bands
 from railexu.track.track import Track
 from railexu.vehicle.vehicle import load_vehicle
 
@@ -188,12 +189,13 @@ def test_settings_from_dict_and_cli(tmp_path, capsys):
         assert (out / f"{name}.png").exists() and (out / f"{name}.svg").exists()
     text = capsys.readouterr().out
     assert "linear:" in text and "bogie hunting mode" in text
-    # figure content: one damping line per named mode, the crossing starred; the root locus
+    # figure content: one damping line per followed mode, each crossing starred; the root locus
     # has one scatter per mode, damping ratio against frequency, and a speed colour bar
     figs = critical_speed_figures(data)
     ax = figs["linear_stability"].axes[0]
     assert ax.get_ylabel() == "damping ratio [-]"
-    assert len([ln for ln in ax.get_lines() if ln.get_marker() == "*"]) == 1
+    crossing = [m for m in modes.values() if m["critical_speed_m_per_s"] is not None]
+    assert len([ln for ln in ax.get_lines() if ln.get_marker() == "*"]) == len(crossing)
     assert len(ax.get_legend().get_texts()) == len(modes)
     rl = figs["root_locus"].axes
     assert rl[0].get_xlabel() == "frequency [Hz]" and rl[0].get_ylabel() == "damping ratio [-]"
@@ -218,6 +220,15 @@ def test_modes_are_named_by_their_participation():
     )
     assert name_mode({"car_body:roll": 0.5, "car_body:lateral": 0.4}) == "car-body roll"
     assert name_mode({"car_body:other": 0.8, "car_body:lateral": 0.2}) is None  # vertical
+    # the frames' yaw alone: not hunting; a vehicle without a car body gets no car-body name
+    assert name_mode({"bogie:yaw": 0.9, "wheelset:lateral": 0.05}) == "bogie yaw"
+    assert name_mode({"bogie:roll": 0.6, "bogie:lateral": 0.2, "wheelset:lateral": 0.1}) == (
+        "bogie roll"
+    )
+    settings = CriticalSpeedSettings(methods=("linear",), speed_min_m_per_s=20.0,
+                                     speed_max_m_per_s=40.0, linear_points=2)  # fmt: skip
+    names = {m["name"] for m in linear_stability(bogie, None, settings)["modes"].values()}
+    assert names and not any(n.startswith("car-body") for n in names)
 
 
 def test_soft_secondary_damping_reports_the_car_body_mode():
@@ -252,7 +263,8 @@ def test_soft_secondary_damping_reports_the_car_body_mode():
     data = {"linear_m_per_s": result["critical_speed_m_per_s"], "linear": result,
             "nonlinear_bisection_m_per_s": 60.0, "nonlinear_ramp_m_per_s": None}  # fmt: skip
     note = compare_linear_nonlinear(data, settings)
-    assert "car-body yaw" in note and "secondary suspension" in note and "threshold" in note
+    # in the vehicle's own words: its suspension elements joined to the car body by name
+    assert "car-body yaw" in note and "secondary_1" in note and "secondary suspension" not in note
 
 
 def test_comparison_words():
@@ -267,3 +279,142 @@ def test_comparison_words():
     assert "subcritical" in compare(50.0, 35.0)
     assert "equivalent conicity" in compare(50.0, 70.0)
     assert compare(None, 35.0) is None and compare(50.0, None) is None
+
+
+class _FakeMode:
+    """A mode with a shape, frequency and damping ratio (for the tracking tests)."""
+
+    def __init__(self, shape, frequency_Hz, damping_ratio, name="car-body yaw"):
+        self.shape = np.asarray(shape, dtype=complex)
+        self.frequency_Hz = frequency_Hz
+        self.damping_ratio = damping_ratio
+        self.name = name
+
+
+def test_modes_are_followed_by_shape_not_by_frequency_order():
+    """Two modes whose frequencies cross between speeds (3 Hz rising to 9 Hz, 6 Hz staying):
+    MAC links each to its own shape, so the branch of shape a goes 3 -> 5 -> 9 Hz although at
+    the second speed it is the lower and at the third the higher one; MAC of orthogonal shapes
+    is 0, of equal ones 1, of a shape turned by a complex factor 1."""
+    a, b = np.array([1.0, 0.1, 0.0]), np.array([0.0, 0.2, 1.0])
+    assert mac(a, 2j * a) == pytest.approx(1.0) and mac(a, np.array([0.0, 0.0, 1.0])) == 0.0
+    per_speed = [
+        [_FakeMode(a, 3.0, 0.1), _FakeMode(b, 6.0, 0.2)],
+        [_FakeMode(b, 6.0, 0.15), _FakeMode(a + 0.05, 5.0, 0.05)],
+        [_FakeMode(a, 9.0, -0.01), _FakeMode(b + 0.1, 6.1, 0.1)],
+    ]
+    branches = track_branches(per_speed)
+    freqs = sorted([[b.modes[k].frequency_Hz for k in sorted(b.modes)] for b in branches])
+    assert freqs == [[3.0, 5.0, 9.0], [6.0, 6.0, 6.1]]
+
+
+def test_a_narrow_unstable_band_is_reported_as_a_band():
+    """A branch unstable only between 12.5 and 17.5 m/s (damping -0.001 at 15 m/s, as the
+    wagon's car-body yaw): one band with both ends refined (linear in between here, so the
+    secant steps land on the exact zeros 13.75 and 15.83 m/s) and not "stays unstable"."""
+    speeds = [10.0, 12.5, 15.0, 17.5, 20.0]
+    zeta = {10.0: 0.01, 12.5: 0.001, 15.0: -0.001, 17.5: 0.002, 20.0: 0.02}
+
+    def z_of(v):  # piecewise linear through the points
+        return float(np.interp(v, speeds, [zeta[s] for s in speeds]))
+
+    shape = np.array([1.0, 0.0])
+    branch = track_branches([[_FakeMode(shape, 1.0, zeta[v])] for v in speeds])[0]
+
+    def modes_at(v):
+        return [_FakeMode(shape, 1.0, z_of(v))]
+
+    bands = unstable_bands(speeds, branch, modes_at, 0.1)
+    assert len(bands) == 1
+    lo, hi = bands[0]
+    assert lo == pytest.approx(12.5 + 2.5 * 0.001 / 0.002, abs=0.01)
+    assert hi == pytest.approx(15.0 + 2.5 * 0.001 / 0.003, abs=0.01)
+
+
+def _fake_runs(monkeypatch, fold: float):
+    """Replace the runs by a limit-cycle branch that exists above ``fold`` m/s (amplitude
+    ``1 mm sqrt(v - fold)``) and decays below it; returns the list of calls."""
+    import railexu.stability.nonlinear as nl
+
+    calls = []
+
+    def fake(vehicle, track, speed, settings, offset_m=None):
+        calls.append((speed, offset_m))
+        cycle = speed >= fold
+        amp = 1e-3 * np.sqrt(speed - fold) if cycle else 0.2e-3
+        return {"speed_m_per_s": speed, "stable": not cycle, "amplitude_m": amp,
+                "classification": "limit cycle" if cycle else "decaying",
+                "growth_per_period": 0.0 if cycle else -0.05, "frequency_Hz": 3.0}  # fmt: skip
+
+    monkeypatch.setattr(nl, "nonlinear_run_is_stable", fake)
+    return calls
+
+
+def test_branch_follows_the_limit_cycle_down_to_its_fold(monkeypatch):
+    """Stepping down from 60 m/s by 5 m/s and halving where the cycle is lost brackets the fold
+    (33.3 m/s) within the 1 m/s tolerance; each speed restarts from the amplitude found above;
+    with a budget of 3 runs the branch says it has not converged."""
+    from railexu.stability import branch_critical_speed
+
+    calls = _fake_runs(monkeypatch, 33.3)
+    settings = CriticalSpeedSettings(methods=("branch",), speed_min_m_per_s=20.0,
+                                     speed_max_m_per_s=60.0, tolerance_m_per_s=1.0)  # fmt: skip
+    result = branch_critical_speed(None, None, settings)
+    lo, hi = result["bracket_m_per_s"]
+    assert result["converged"] and lo < 33.3 <= hi and hi - lo <= 1.0
+    assert result["critical_speed_m_per_s"] == hi
+    assert calls[1] == (55.0, pytest.approx(1e-3 * np.sqrt(60.0 - 33.3)))
+    assert "growth rate" in result["judged_by"] and "restarts" in result["disturbance"]
+    calls.clear()
+    short = branch_critical_speed(None, None, replace(settings, max_runs=3))
+    assert not short["converged"] and "not converged: 3 runs" in short["note"]
+
+
+def test_growth_rate_classification_of_a_bogie_branch():
+    """The EU07 bogie on S1002/UIC60 1:40, from a 5 mm disturbance at 40 m/s, stepping down by
+    10 m/s (150 m per run, three runs): a limit cycle (1.6 mm measured) at 30 m/s, below the
+    linear critical speed of the bogie alone (44 m/s, docs/validation.md): hunting of these
+    profiles is subcritical (True 1999), so the lowest speed of the branch lies below the linear
+    value; at 20 m/s only a small limit cycle (0.4 mm, below the 1 mm floor) is left. Runs
+    classified as limit cycles change by less than 1 % per period."""
+    from railexu.stability import branch_critical_speed
+
+    vehicle = load_vehicle(VEHICLES / "eu07_bogie.yaml")
+    settings = CriticalSpeedSettings(
+        methods=("branch",), speed_min_m_per_s=20.0, speed_max_m_per_s=40.0,
+        branch_step_m_per_s=10.0, tolerance_m_per_s=10.0, distance_m=150.0,
+        initial_lateral_m=0.005, max_runs=4,
+    )  # fmt: skip
+    result = branch_critical_speed(vehicle, None, settings)
+    assert result["converged"] and result["critical_speed_m_per_s"] == 30.0, result
+    assert result["bracket_m_per_s"] == [20.0, 30.0]
+    classes = {p["speed_m_per_s"]: p["classification"] for p in result["branch"]}
+    assert classes[30.0] == "limit cycle" and classes[20.0] == "small limit cycle"
+    for p in result["branch"]:
+        if p["classification"] == "limit cycle":
+            assert abs(p["growth_per_period"]) <= 0.01
+
+
+def test_bifurcation_diagram_marks_the_branch_and_the_linear_speed(tmp_path):
+    """The figure of the branch: amplitude in mm against speed in m/s, one marker per run,
+    the branch's and the linear critical speeds as vertical lines; the JSON is written."""
+    from railexu.report.stability_files import write_critical_speed
+
+    points = [{"speed_m_per_s": v, "classification": c, "amplitude_m": a, "stable": s}
+              for v, c, a, s in ((45.0, "limit cycle", 7e-3, False), (35.0, "limit cycle", 3e-3,
+                                  False), (25.0, "decaying", 1e-4, True))]  # fmt: skip
+    result = {"vehicle": "v", "branch": {"branch": points, "critical_speed_m_per_s": 35.0,
+                                         "converged": False},
+              "linear": None, "nonlinear_branch_m_per_s": 35.0}  # fmt: skip
+    result["linear"] = {"critical_speed_m_per_s": 44.0, "persistent_critical_speed_m_per_s": 44.0}
+    fig = critical_speed_figures({**result, "linear": None})["bifurcation_diagram"]
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "speed [m/s]" and "[mm]" in ax.get_ylabel()
+    assert "NOT CONVERGED" in ax.get_title()
+    fig = critical_speed_figures({**result, "linear": {**result["linear"], "speeds_m_per_s": [],
+                                                       "modes": {"a": {"damping_ratio": [],
+                                                       "frequency_Hz": []}}}})  # fmt: skip
+    labels = fig["bifurcation_diagram"].axes[0].get_legend_handles_labels()[1]
+    assert "linear: 44.0 m/s" in labels and "nonlinear (branch): 35.0 m/s" in labels
+    written = write_critical_speed({**result, "linear": None}, tmp_path, plots=False)
+    assert json.loads(written[0].read_text())["nonlinear_branch_m_per_s"] == 35.0

@@ -23,6 +23,16 @@ examined (:func:`detect_hunting`). The verdict is one of:
 ``detected`` is True exactly for the two or three verdicts starting with ``"hunting"``: the
 verdict always agrees with the amplitude, growth and band share it reports.
 The thresholds (0.9, 10 %, 0.5) are railexu's choices.
+
+Every sustained oscillation (issue 28): :func:`wheelset_oscillations` fits each wheelset's
+lateral displacement and angle of attack (:func:`railexu.assessment.oscillation.
+fit_oscillation`: dominant frequency, quasi-static position removed, fitted envelope, growth
+rate) and reports each one that neither decays nor stays below its floor
+(:data:`OSCILLATION_FLOORS`), on straight track and in curves (about the quasi-static
+position), with ``flange_contact`` telling an oscillation with flange contact from one on the
+treads. When such an oscillation exists and the verdict would be ``"below threshold"``, the
+verdict says ``"sustained oscillation below the hunting threshold"`` instead: an oscillation
+that does not decay is never reported as "no hunting" without being named.
 """
 
 from __future__ import annotations
@@ -35,6 +45,7 @@ from numpy.typing import NDArray
 
 from railexu.assessment.criterion import Criterion, finite_or_none
 from railexu.assessment.filters import scipy_signal
+from railexu.assessment.oscillation import fit_oscillation
 from railexu.assessment.signals import amplitude, zero_crossing_wavelength, zero_crossings
 
 FloatArray = NDArray[np.float64]
@@ -49,6 +60,12 @@ HUNTING_GROWTH_RATIO = 1.1
 #: band (self-excited); below it, track-forced.
 NARROW_BAND_SHARE = 0.5
 NARROW_BAND_HALF_WIDTH = 0.10
+#: Amplitudes below which a wheelset's oscillation is not reported (railexu's assumption: a
+#: tenth of the 1 mm hunting threshold, and 0.1 mrad of angle of attack, the order of the
+#: angle of attack of a wheelset with 0.1 mm lateral motion at a hunting wavelength of 10-20 m).
+OSCILLATION_FLOORS = {"lateral_m": 1.0e-4, "yaw_rad": 1.0e-4}
+#: The statuses of :func:`~railexu.assessment.oscillation.classify` that are reported.
+REPORTED_OSCILLATIONS = ("sustained", "growing")
 
 
 @dataclass
@@ -63,6 +80,7 @@ class HuntingResult:
     growth_ratio: float | None = None
     narrow_band_share: float | None = None
     threshold_m: float | None = None
+    oscillations: list | None = None
 
     def to_dict(self) -> dict:
         return {
@@ -74,6 +92,7 @@ class HuntingResult:
             "growth_ratio": finite_or_none(self.growth_ratio),
             "narrow_band_share": finite_or_none(self.narrow_band_share),
             "threshold_m": finite_or_none(self.threshold_m),
+            "oscillations": list(self.oscillations or []),
         }
 
 
@@ -102,10 +121,14 @@ def detect_hunting(
     threshold_m: float,
     track_irregular: bool | None = None,
     running_stability: Criterion | None = None,
+    oscillations: list[dict] | None = None,
 ) -> HuntingResult:
     """Hunting verdict for the lateral displacement ``y`` (m) of the leading wheelset against
-    the distance ``x`` (m) of the evaluation window; see the module docstring for the rules."""
-    out = HuntingResult(threshold_m=threshold_m)
+    the distance ``x`` (m) of the evaluation window; see the module docstring for the rules.
+    ``oscillations``: the reported oscillations of :func:`wheelset_oscillations` (kept in the
+    result; a verdict ``"below threshold"`` becomes ``"sustained oscillation below the
+    hunting threshold"`` when there is one)."""
+    out = HuntingResult(threshold_m=threshold_m, oscillations=list(oscillations or []))
     if y is None or x.size < 4 or not x[-1] > x[0]:
         return out
     x0, span = float(x[0]), float(x[-1] - x[0])
@@ -138,9 +161,70 @@ def detect_hunting(
     else:
         out.verdict = "hunting (limit cycle)"
     out.detected = out.verdict.startswith("hunting")
+    if out.verdict == "below threshold" and out.oscillations:
+        out.verdict = "sustained oscillation below the hunting threshold"
     if not out.detected:
         wl = zero_crossing_wavelength(xs, ys, min_periods=2.0)
     out.wavelength_m = wl
     if wl is not None and speed_m_per_s > 0 and math.isfinite(wl):
         out.frequency_Hz = speed_m_per_s / wl
     return out
+
+
+def wheelset_oscillations(
+    t_s: FloatArray,
+    signals: dict[str, FloatArray],
+    flange_contact: dict[str, bool] | None = None,
+    floors: dict[str, float] | None = None,
+) -> list[dict]:
+    """The reported oscillations of the wheelsets' signals over a window.
+
+    Args:
+        t_s: time (s) of the window's samples.
+        signals: ``"ws1_lateral_m"``, ``"ws1_yaw_rad"`` (angle of attack), ... -> samples.
+        flange_contact: ``"ws1"`` -> whether a wheel of that wheelset had flange contact in
+            the window.
+        floors: per signal suffix (``lateral_m``, ``yaw_rad``) the amplitude floor; default
+            :data:`OSCILLATION_FLOORS`.
+
+    Returns one dict per signal whose oscillation is sustained or growing: ``signal``,
+    ``wheelset``, ``quantity`` (``lateral displacement`` or ``angle of attack``), ``unit``,
+    ``status``, ``frequency_Hz``, ``amplitude`` (fitted envelope at the window's end),
+    ``growth_rate_per_s``, ``growth_per_period``, ``offset`` (quasi-static position),
+    ``narrow_band_share``, ``window_s``, ``floor``, ``flange_contact`` and ``label``
+    (``"oscillation with flange contact"`` or ``"oscillation in tread contact"``)."""
+    floors = {**OSCILLATION_FLOORS, **(floors or {})}
+    flange_contact = flange_contact or {}
+    out = []
+    for name, values in signals.items():
+        wheelset, _, suffix = name.partition("_")
+        if suffix not in floors:
+            continue
+        fit = fit_oscillation(t_s, values, floors[suffix])
+        if fit.status not in REPORTED_OSCILLATIONS:
+            continue
+        flange = bool(flange_contact.get(wheelset, False))
+        lateral = suffix == "lateral_m"
+        contact = "with flange contact" if flange else "in tread contact"
+        out.append({
+            "signal": name,
+            "wheelset": wheelset,
+            "quantity": "lateral displacement" if lateral else "angle of attack",
+            "unit": "m" if lateral else "rad",
+            **fit.to_dict(),
+            "floor": floors[suffix],
+            "flange_contact": flange,
+            "label": f"oscillation {contact}",
+        })  # fmt: skip
+    return out
+
+
+def describe_oscillation(o: dict) -> str:
+    """One line: ``ws2 angle of attack: sustained 7.70 Hz, +-1.00 mrad, growth -0.01 1/s
+    (tread contact)``."""
+    scale, unit = (1e3, "mm") if o["unit"] == "m" else (1e3, "mrad")
+    return (
+        f"{o['wheelset']} {o['quantity']}: {o['status']} {o['frequency_Hz']:.2f} Hz, "
+        f"+-{o['amplitude'] * scale:.2f} {unit}, growth {o['growth_rate_per_s']:+.3f} 1/s "
+        f"({'flange' if o['flange_contact'] else 'tread'} contact)"
+    )

@@ -82,28 +82,91 @@ def command(args: argparse.Namespace) -> int:
     result = critical_speed(vehicle, track, settings, None if args.quiet else print_messages())
     written = write_critical_speed(result, args.out)
 
-    def fmt(v):
-        return f"{v:.2f} m/s ({v * 3.6:.1f} km/h)" if v is not None else "not found in range"
-
     print(f"railexu critical-speed: {vehicle.name}")
-    for key, label in (
-        ("linear_m_per_s", "linear"),
-        ("nonlinear_bisection_m_per_s", "nonlinear, bisection"),
-        ("nonlinear_ramp_m_per_s", "nonlinear, ramp"),
-    ):
-        method = label.split(", ")[-1]
-        if method in settings.methods:
-            section = result.get(method) or {}
-            note = section.get("note") or (
-                "unstable at every speed in range" if section.get("unstable_in_range") else ""
-            )
-            mode = f", {result['linear_mode']} mode" if method == "linear" and result.get(
-                "linear_mode") else ""  # fmt: skip
-            print(f"  {label}: {fmt(result[key])}{mode}" + (f"  [{note}]" if note else ""))
-            if method == "linear":
-                for name, m in (section.get("modes") or {}).items():
-                    print(f"    {name}: zero damping at {fmt(m['critical_speed_m_per_s'])}")
+    for line in summary_lines(result, settings.methods):
+        print(f"  {line}")
     if result.get("comparison"):
         print(f"  note: {result['comparison']}")
     print(f"  wrote {len(written)} files to {args.out}")
     return 0
+
+
+def _fmt(v) -> str:
+    return f"{v:.2f} m/s ({v * 3.6:.1f} km/h)" if v is not None else "not found in range"
+
+
+def summary_lines(result: dict, methods) -> list[str]:
+    """The printed summary: each method's critical speed with its note; for the linear analysis
+    the critical mode, whether it stays unstable above (or its band), every followed mode's
+    unstable bands and the table of least damped modes per speed."""
+    lines = []
+    labels = {
+        "linear": "linear",
+        "branch": "nonlinear, limit-cycle branch",
+        "bisection": "nonlinear, bisection",
+        "ramp": "nonlinear, ramp",
+    }
+    for method, label in labels.items():
+        if method not in methods:
+            continue
+        section = result.get(method) or {}
+        key = "linear_m_per_s" if method == "linear" else f"nonlinear_{method}_m_per_s"
+        note = section.get("note") or (
+            "unstable at every speed in range" if section.get("unstable_in_range") else ""
+        )
+        if method == "linear":
+            lines.extend(_linear_lines(section, note))
+        else:
+            lines.append(f"{label}: {_fmt(result.get(key))}" + (f"  [{note}]" if note else ""))
+            if section.get("disturbance"):
+                lines.append(f"  disturbance: {section['disturbance']}")
+            if section.get("judged_by"):
+                lines.append(f"  judged by: {section['judged_by']}")
+            for p in section.get("branch") or []:
+                amp = p.get("amplitude_m")
+                amp_text = f"{amp * 1e3:.2f} mm" if amp is not None else "-"
+                speed = p["speed_m_per_s"]
+                lines.append(f"    {speed:6.2f} m/s: {p['classification']}, {amp_text}")
+    return lines
+
+
+def _linear_lines(lin: dict, note: str) -> list[str]:
+    mode = lin.get("critical_mode")
+    text = f"linear: {_fmt(lin.get('critical_speed_m_per_s'))}"
+    if mode:
+        band = lin.get("critical_band_m_per_s") or [None, None]
+        if lin.get("critical_mode_stays_unstable"):
+            text += f", {mode} mode, unstable from there up to the highest speed analysed"
+        else:
+            text += f", {mode} mode, unstable only up to {_fmt(band[1])}, stable again above"
+    lines = [text + (f"  [{note}]" if note else "")]
+    persistent = lin.get("persistent_critical_speed_m_per_s")
+    if persistent is not None and persistent != lin.get("critical_speed_m_per_s"):
+        lines.append(f"linear, a mode stays unstable above: {_fmt(persistent)} "
+                     f"({lin.get('persistent_mode')} mode)")  # fmt: skip
+    damped = []
+    for name, m in (lin.get("modes") or {}).items():
+        bands = m.get("unstable_bands_m_per_s") or []
+        if not bands:
+            damped.append(name)
+            continue
+        where = "; ".join(_band_text(b) for b in bands)
+        energy = ", ".join(f"{k} {v:.0%}" for k, v in (m.get("energy") or {}).items())
+        lines.append(f"  {name}: {where}" + (f"  (energy: {energy})" if energy else ""))
+    if damped:
+        lines.append(f"  damped over the range: {', '.join(damped)}")
+    table = lin.get("least_damped") or []
+    if table:
+        lines.append("  least damped modes per speed (damping ratio, frequency):")
+        for row in table:
+            cells = ", ".join(f"{c['mode']} {c['damping_ratio']:+.3f} {c['frequency_Hz']:.2f} Hz"
+                              for c in row["modes"][:3])  # fmt: skip
+            lines.append(f"    {row['speed_m_per_s']:6.1f} m/s: {cells}")
+    return lines
+
+
+def _band_text(band) -> str:
+    lo, hi = band
+    lo_text = "below the range" if lo is None else f"{lo:.1f} m/s"
+    hi_text = "above the range" if hi is None else f"{hi:.1f} m/s"
+    return f"unstable from {lo_text} to {hi_text}"

@@ -283,6 +283,7 @@ def format_summary(summary) -> str:
     else:
         lines.append("no flange contact")
     lines.append(_hunting_line(summary.get("hunting") or {}))
+    lines.extend(_oscillation_lines(summary.get("hunting") or {}))
     if summary.get("max_abs_lateral_force_N") is not None:
         lines.append(
             f"max |Y| (raw samples, unfiltered; not a verdict): "
@@ -330,6 +331,13 @@ def _hunting_line(h: dict) -> str:
     if h.get("frequency_Hz") is not None:
         text += f", {h['frequency_Hz']:.2f} Hz, wavelength {h['wavelength_m']:.2f} m"
     return text + ")"
+
+
+def _oscillation_lines(h: dict) -> list[str]:
+    """One line per sustained or growing oscillation of a wheelset (issue 28)."""
+    from railexu.assessment.hunting import describe_oscillation
+
+    return [f"  {describe_oscillation(o)}" for o in h.get("oscillations") or []]
 
 
 def _comfort_lines(comfort: dict) -> list[str]:

@@ -9,6 +9,8 @@ from matplotlib.figure import Figure
 _MODE_STYLE = {
     "wheelset hunting": ("tab:red", "o"),
     "bogie hunting": ("tab:orange", "s"),
+    "wheelset yaw": ("tab:brown", "o"),
+    "bogie yaw": ("tab:cyan", "s"),
     "car-body lateral": ("tab:blue", "^"),
     "car-body yaw": ("tab:green", "D"),
     "car-body roll": ("tab:purple", "v"),
@@ -22,7 +24,10 @@ def critical_speed_figures(result: dict) -> dict[str, Figure]:
       speed, each mode's zero-damping speed marked;
     - ``"root_locus"``: every named mode at every speed, damping ratio against frequency,
       coloured by speed (one marker shape per mode);
-    - ``"nonlinear_stability"``: amplitude of the bisection runs and of the ramp against speed.
+    - ``"nonlinear_stability"``: amplitude of the bisection runs and of the ramp against speed;
+    - ``"bifurcation_diagram"``: the limit-cycle branch (fitted amplitude of the deciding
+      wheelset against speed, limit cycles filled, decaying runs open), with the nonlinear and
+      the linear critical speeds marked.
     """
     figs: dict[str, Figure] = {}
     title = f"{result.get('vehicle', '')}: critical speed"
@@ -33,7 +38,53 @@ def critical_speed_figures(result: dict) -> dict[str, Figure]:
             figs["root_locus"] = _root_locus_figure(lin, title)
     if result.get("bisection") or result.get("ramp"):
         figs["nonlinear_stability"] = _nonlinear_figure(result, title)
+    if result.get("branch"):
+        figs["bifurcation_diagram"] = _bifurcation_figure(result, title)
     return figs
+
+
+_CLASS_STYLE = {
+    "limit cycle": ("tab:red", "o", "limit cycle (sustained)"),
+    "growing": ("tab:red", "^", "growing"),
+    "large broad-band": ("tab:red", "x", "large, irregular"),
+    "decaying": ("tab:blue", "v", "decaying (no limit cycle)"),
+    "small limit cycle": ("tab:blue", "s", "small limit cycle (not hunting)"),
+    "below floor": ("tab:blue", "o", "below floor"),
+}
+
+
+def _bifurcation_figure(result: dict, title: str) -> Figure:
+    branch = result["branch"]
+    fig = Figure(figsize=(8, 4.5))
+    fig.subplots_adjust(left=0.11, right=0.97, bottom=0.12, top=0.9)
+    ax = fig.subplots()
+    seen: set[str] = set()
+    for p in branch["branch"]:
+        amp = p.get("amplitude_m")
+        colour, marker, label = _CLASS_STYLE.get(p.get("classification"), ("0.4", "s", "other"))
+        filled = colour == "tab:red"
+        face = colour if filled else "none"
+        ax.plot(p["speed_m_per_s"], (amp or 0.0) * 1e3, marker, ms=8, color=colour, mfc=face,
+                label=None if label in seen else label)  # fmt: skip
+        seen.add(label)
+    crit = branch.get("critical_speed_m_per_s")
+    if crit is not None:
+        ax.axvline(crit, color="tab:red", ls="--", label=f"nonlinear (branch): {crit:.1f} m/s")
+    lin = result.get("linear") or {}
+    lines = {"linear": (lin.get("critical_speed_m_per_s"), ":")}
+    persistent = lin.get("persistent_critical_speed_m_per_s")
+    if persistent is not None and persistent != lines["linear"][0]:
+        lines["linear, stays unstable above"] = (persistent, "-.")
+    for text, (v, style) in lines.items():
+        if v is not None:
+            ax.axvline(v, color="k", ls=style, label=f"{text}: {v:.1f} m/s")
+    ax.set_xlabel("speed [m/s]")
+    ax.set_ylabel("amplitude of the lateral oscillation [mm]")
+    note = "" if branch.get("converged") else " - NOT CONVERGED"
+    ax.set_title(f"{title}: limit-cycle branch as speed falls{note}")
+    ax.grid(True, alpha=0.4)
+    ax.legend(loc="upper left", fontsize="small")
+    return fig
 
 
 def _modes(lin: dict) -> dict:
@@ -50,7 +101,7 @@ def _linear_figure(lin: dict, title: str) -> Figure:
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     v = np.asarray(lin["speeds_m_per_s"], dtype=float)
     for name, mode in _modes(lin).items():
-        colour, marker = _MODE_STYLE.get(name, ("k", "o"))
+        colour, marker = _MODE_STYLE.get(mode.get("name", name), ("k", "o"))
         zeta = np.asarray(mode["damping_ratio"], dtype=float)
         freq = np.asarray(mode["frequency_Hz"], dtype=float)
         crit = mode.get("critical_speed_m_per_s")
@@ -81,7 +132,7 @@ def _root_locus_figure(lin: dict, title: str) -> Figure:
     mappable = None
     for name in dict.fromkeys(p[3] for p in points):
         sel = [p for p in points if p[3] == name]
-        _, marker = _MODE_STYLE.get(name, ("k", "o"))
+        _, marker = _MODE_STYLE.get(name.rstrip("0123456789 "), ("k", "o"))
         mappable = ax.scatter([p[1] for p in sel], [p[2] for p in sel], c=[p[0] for p in sel],
                               cmap="viridis", vmin=lo, vmax=hi, marker=marker, s=28,
                               edgecolors="k", linewidths=0.3, label=name)  # fmt: skip

@@ -32,7 +32,7 @@ from railexu.assessment.en14363 import (
     y_over_q_values,
 )
 from railexu.assessment.filters import dominant_frequency, lowpass
-from railexu.assessment.hunting import FINAL_FRACTION, detect_hunting
+from railexu.assessment.hunting import FINAL_FRACTION, detect_hunting, wheelset_oscillations
 from railexu.assessment.safety import (
     flange_climb_criterion,
     flange_climb_not_applicable,
@@ -324,6 +324,7 @@ def summarize(
         hunting_threshold_m,
         track_irregular,
         stability,
+        _oscillations(run, indices, flange_contact_angle_rad),
     )
     comfort, note = _comfort(run)
     x, start, end = run.x, run.start, run.end
@@ -352,6 +353,24 @@ def summarize(
         comfort=comfort,
         comfort_note=note,
     )
+
+
+def _oscillations(run: _Run, indices: list[int], angle_rad: float) -> list[dict]:
+    """The wheelsets' sustained or growing oscillations (lateral displacement, angle of attack)
+    in the window (:func:`~railexu.assessment.hunting.wheelset_oscillations`), each with
+    whether a wheel of its wheelset was in flange contact (contact angle above ``angle_rad``)."""
+    inside = run.inside
+    if np.count_nonzero(inside) < 32:
+        return []
+    signals, flange = {}, {}
+    for i in indices:
+        for quantity in ("lateral_m", "yaw_rad"):
+            if f"ws{i}_{quantity}" in run.ts:
+                signals[f"ws{i}_{quantity}"] = run.col(f"ws{i}_{quantity}")[inside]
+        angles = [run.col(c)[inside] for c in (f"ws{i}_{s}_max_angle_rad" for s in SIDES)
+                  if c in run.ts]  # fmt: skip
+        flange[f"ws{i}"] = any(bool(np.any(a > angle_rad)) for a in angles)
+    return wheelset_oscillations(run.ts.time_s[: run.n][inside], signals, flange)
 
 
 def _finite_run(ts: TimeSeries, evaluate_from_m, evaluate_to_m) -> _Run:

@@ -1,14 +1,16 @@
-"""Critical speed: linear eigenvalues, nonlinear bisection, and the ramp method.
+"""Critical speed: linear eigenvalues, the limit-cycle branch, bisection and the ramp method.
 
 Above its critical speed a railway vehicle hunts: a self-excited lateral oscillation of its
-wheelsets and bogies. Three ways to find it (``docs/assessment.md`` and ``docs/validation.md``):
+wheelsets and bogies. Four ways to find it (``docs/assessment.md`` and ``docs/validation.md``):
 
 - **linear** (:func:`linear_stability`): linearise the vehicle about centred running at a speed
   with Exudyn (``ComputeLinearizedSystem``: stiffness, damping and mass matrices, the creep
   damping included through the contact force's numerical Jacobian) and follow every lateral
-  mode over speed, each named by its participation (wheelset or bogie hunting, car-body
-  lateral, yaw or roll); the critical speed is the lowest at which a mode's damping ratio
-  crosses zero, reported with the mode's name. As
+  mode over speed by its shape (:mod:`.modes`: MAC between neighbouring speeds), each named by
+  its kinetic and strain energy (wheelset or bogie hunting, bogie yaw, car-body lateral, yaw
+  or roll; the bodies by the vehicle's names); the critical speed is the lowest at which a
+  mode's damping ratio crosses zero, reported with the mode, its unstable band and whether it
+  stays unstable above. As
   the classical linear analysis does, the wheel profiles are replaced by cones with the
   *equivalent conicity* of the profile pair (EN 15302, harmonic linearisation at a given
   amplitude, 3 mm by default), and creep follows Kalker's linear theory. (``linearization =
@@ -16,15 +18,21 @@ wheelsets and bogies. Three ways to find it (``docs/assessment.md`` and ``docs/v
   from the equivalent conicity.)
 - **nonlinear bisection** (:func:`bisection_critical_speed`): runs of the full model after a
   lateral disturbance (an initial lateral offset of the whole vehicle); a run is *unstable*
-  when the lateral motion of a wheelset over the last 10 % of the distance still exceeds a
-  threshold amplitude (3 mm by default) or grows; bisection between a stable and an unstable
-  speed. Deterministic: the same inputs give the same speed.
+  when its oscillation grows or is a limit cycle of at least 1 mm (:func:`classify_run`,
+  growth rate of the fitted envelope); bisection between a stable and an unstable speed.
+  Deterministic: the same inputs give the same speed.
+- **branch** (:func:`branch_critical_speed`): the limit-cycle branch followed as speed
+  falls (settle, measure, lower the speed, restart from the amplitude found); each run
+  classified by the growth rate of its fitted envelope (:func:`classify_run`); the lowest
+  speed with a limit cycle is the nonlinear critical speed. Bisection judges its runs the same
+  way.
 - **ramp** (:func:`ramp_critical_speed`): start above the critical speed from a disturbance,
   let the hunting settle, then decelerate slowly; the speed at which the limit cycle vanishes
   (its amplitude falls below the threshold for good) is the nonlinear critical speed from
   above, which is lower than the linear one where the bifurcation is subcritical.
 
-Modules: :mod:`.settings` (settings and their parsing), :mod:`.linear`, :mod:`.nonlinear`,
+Modules: :mod:`.settings` (settings and their parsing), :mod:`.linear`, :mod:`.modes` (mode
+tracking by shape, unstable bands), :mod:`.nonlinear`,
 :mod:`.analysis` (:func:`critical_speed` and the comparison of linear and nonlinear values).
 """
 
@@ -47,6 +55,8 @@ from railexu.stability.linear import (
 )
 from railexu.stability.nonlinear import (
     bisection_critical_speed,
+    branch_critical_speed,
+    classify_run,
     nonlinear_run_is_stable,
     ramp_critical_speed,
 )
@@ -73,6 +83,8 @@ __all__ = [
     "StabilityError",
     "_jsonable",
     "bisection_critical_speed",
+    "branch_critical_speed",
+    "classify_run",
     "body_roles",
     "compare_linear_nonlinear",
     "critical_speed",

@@ -8,7 +8,11 @@ from dataclasses import asdict
 
 from railexu.jsonable import jsonable
 from railexu.stability.linear import HUNTING_MODES, linear_stability
-from railexu.stability.nonlinear import bisection_critical_speed, ramp_critical_speed
+from railexu.stability.nonlinear import (
+    bisection_critical_speed,
+    branch_critical_speed,
+    ramp_critical_speed,
+)
 from railexu.stability.settings import CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -23,7 +27,8 @@ def critical_speed(
     """Critical speed of ``vehicle`` by the chosen methods; returns the content of
     ``critical_speed.json``: ``linear_m_per_s``, ``nonlinear_bisection_m_per_s``,
     ``nonlinear_ramp_m_per_s`` (None where a method was not run or found no crossing in the
-    range), one section per method with its details, and the settings used."""
+    range), ``nonlinear_branch_m_per_s`` (the lowest speed of the limit-cycle branch), one
+    section per method with its details, and the settings used."""
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     out: dict = {
@@ -32,6 +37,7 @@ def critical_speed(
         "linear_m_per_s": None,
         "nonlinear_bisection_m_per_s": None,
         "nonlinear_ramp_m_per_s": None,
+        "nonlinear_branch_m_per_s": None,
         "settings": asdict(settings),
     }
     if "linear" in settings.methods:
@@ -44,6 +50,9 @@ def critical_speed(
     if "ramp" in settings.methods:
         out["ramp"] = ramp_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_ramp_m_per_s"] = out["ramp"]["critical_speed_m_per_s"]
+    if "branch" in settings.methods:
+        out["branch"] = branch_critical_speed(vehicle, track, settings, progress)
+        out["nonlinear_branch_m_per_s"] = out["branch"]["critical_speed_m_per_s"]
     out["comparison"] = compare_linear_nonlinear(out, settings)
     return out
 
@@ -58,15 +67,16 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     when they agree, or when one of them is missing).
 
     The reasons, in the order they are checked: the linear value belongs to a car-body mode
-    (weakly damped, a motion of the car body on its secondary suspension: the wheelsets'
-    amplitude, which the nonlinear runs judge, stays below the threshold within the run); the
+    (weakly damped, a motion of the car body on the suspension elements joined to it, named
+    from the vehicle; unstable only in a band when it is; the wheelsets' amplitude, which the
+    nonlinear runs judge, stays small); the
     nonlinear value is the lower one (a subcritical bifurcation: the wheel-rail contact's
     nonlinearity lets a large disturbance settle into a limit cycle below the linear value); the
     nonlinear value is the higher one (the linearisation's equivalent conicity, taken at one
     amplitude, is larger than what the run's small motion sees, or the motion grows too slowly
     to reach the threshold within the distance run)."""
     linear = result.get("linear_m_per_s")
-    nonlinear = {k: result.get(f"nonlinear_{k}_m_per_s") for k in ("bisection", "ramp")}
+    nonlinear = {k: result.get(f"nonlinear_{k}_m_per_s") for k in ("branch", "bisection", "ramp")}
     nonlinear = {k: v for k, v in nonlinear.items() if v is not None}
     if linear is None or not nonlinear:
         return None
@@ -80,24 +90,27 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
         f"The linear critical speed ({linear:.1f} m/s, {mode} mode) and the nonlinear one "
         f"({method}, {value:.1f} m/s) differ by {gap:.0%}: "
     )
-    if mode not in HUNTING_MODES:
+    name = (lin.get("modes") or {}).get(mode, {}).get("name", mode)
+    if name not in HUNTING_MODES:
         hunting = lin.get("hunting_critical_speed_m_per_s")
         tail = " No hunting mode crosses zero in the range."
         if hunting is not None:
             tail = f" The hunting modes' damping crosses zero at {hunting:.1f} m/s."
-        return head + (
-            f"the linear value belongs to the weakly damped {mode} mode, a motion of the car body "
-            "on its secondary suspension. It grows slowly and moves the wheelsets little, so in "
-            f"the nonlinear runs the wheelsets' amplitude stays below the "
-            f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m." + tail
+        return (
+            head
+            + _car_body_words(lin, mode)
+            + (
+                " It grows slowly and moves the wheelsets little, so in the nonlinear runs the "
+                "wheelsets' oscillation stays small within the distance run." + tail
+            )
         )
     if value < linear:
         return head + (
             "the nonlinear value is lower: a subcritical bifurcation. The wheel-rail contact is "
             "nonlinear (the conicity grows with the amplitude towards the flange), so a "
             f"disturbance of {settings.initial_lateral_m * 1e3:g} mm settles into a limit cycle "
-            "below the speed at which small motions become unstable; the ramp method shows "
-            "where that limit cycle vanishes."
+            "below the speed at which small motions become unstable; the limit-cycle branch "
+            "(and the ramp) show where that limit cycle vanishes."
         )
     return head + (
         "the nonlinear value is higher: the linear analysis uses the equivalent conicity at "
@@ -105,6 +118,23 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
         "motion sees near the centre, or the motion grows too slowly to reach the "
         f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m."
     )
+
+
+def _car_body_words(lin: dict, mode: str) -> str:
+    """``the linear value belongs to the weakly damped car-body yaw mode, a motion of the car
+    body on <its suspension elements>`` (the vehicle's own element names), with its band when it
+    is unstable only in one."""
+    elements = lin.get("car_body_suspension") or []
+    on = f" on {', '.join(elements[:4])}" + (" and others" if len(elements) > 4 else "")
+    name = (lin.get("modes") or {}).get(mode, {}).get("name", mode)
+    text = f"the linear value belongs to the weakly damped {mode} mode"
+    if name.startswith("car-body"):
+        text += ", a motion of the car body" + (on if elements else "")
+    text += "."
+    band = lin.get("critical_band_m_per_s")
+    if band and band[1] is not None:
+        text += f" It is unstable only between {band[0]:.1f} and {band[1]:.1f} m/s."
+    return text
 
 
 _jsonable = jsonable

@@ -1,12 +1,14 @@
-"""Linear critical speed: the vehicle linearised about centred running, every named lateral mode
-followed over speed (wheelset and bogie hunting, car-body lateral, yaw and roll), each with the
-speed where its damping ratio crosses zero."""
+"""Linear critical speed: the vehicle linearised about centred running, every lateral mode
+followed over speed by its shape (:mod:`railexu.stability.modes`: MAC between neighbouring
+speeds), named from where its kinetic and strain energy sit (wheelset and bogie hunting,
+car-body lateral, yaw and roll; the bodies by the vehicle's own names), each with the speeds
+where its damping ratio crosses zero and the bands in which it is unstable."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -14,6 +16,13 @@ from railexu.contact.conicity import equivalent_conicity
 from railexu.contact.evaluation import ContactParameters, WheelsetContactModel
 from railexu.contact.placement import symmetric_wheelset
 from railexu.model.assembly import VehicleModel, wheelset_geometry
+from railexu.stability.modes import (
+    MAC_MIN,
+    label_branches,
+    least_damped_table,
+    track_branches,
+    unstable_bands,
+)
 from railexu.stability.settings import CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -68,9 +77,11 @@ def linear_model_vehicle(vehicle: Vehicle, track: Track, settings: CriticalSpeed
 
 
 #: The names of the lateral modes the linear analysis follows (participation decides).
-MODE_NAMES = ("wheelset hunting", "bogie hunting", "car-body lateral", "car-body yaw",
-              "car-body roll")  # fmt: skip
+MODE_NAMES = ("wheelset hunting", "bogie hunting", "wheelset yaw", "bogie yaw",
+              "car-body lateral", "car-body yaw", "car-body roll")  # fmt: skip
 HUNTING_MODES = ("wheelset hunting", "bogie hunting")
+#: How a role is written in a mode's name.
+ROLE_WORDS = {"car_body": "car-body", "bogie": "bogie", "wheelset": "wheelset"}
 #: Oscillatory modes between these frequencies (Hz) are followed.
 MODE_FREQUENCY_HZ = (0.05, 30.0)
 #: A mode is followed when this share of its kinetic energy is in the lateral plane (lateral
@@ -78,13 +89,23 @@ MODE_FREQUENCY_HZ = (0.05, 30.0)
 LATERAL_ENERGY_SHARE = 0.5
 
 
+#: Parts of a mode's energy listed with it (the largest first), and the smallest share listed.
+ENERGY_PARTS = 4
+ENERGY_PART_MIN = 0.05
+
+
 @dataclass
 class Mode:
-    """One eigenvalue of the linearised vehicle with its name and participation."""
+    """One eigenvalue of the linearised vehicle with its name and participation: ``shares``
+    by ``role:motion`` (the mean of the kinetic and the strain energy shares, which name it),
+    ``parts`` by ``body motion`` with the vehicle's own names of bodies, and ``shape`` (the
+    mass-weighted position part of the eigenvector, for the MAC)."""
 
     eigenvalue: complex
     name: str
     shares: dict
+    parts: dict = field(default_factory=dict)
+    shape: np.ndarray | None = None
 
     @property
     def frequency_Hz(self) -> float:
@@ -119,10 +140,10 @@ def body_roles(vehicle: Vehicle) -> dict[str, str]:
     return roles
 
 
-def _coordinate_groups(model: VehicleModel) -> dict[str, list[int]]:
+def _coordinate_groups(model: VehicleModel, by_body: bool = False) -> dict[str, list[int]]:
     """Indices of the model's coordinates by ``role:motion`` (motion: lateral, yaw, roll,
-    other). Wheelset coordinates are (x, y, z, roll, -yaw, spin), body coordinates (x, y, z,
-    roll, pitch, yaw)."""
+    other), or with ``by_body`` by ``body motion`` (the vehicle's names). Wheelset coordinates
+    are (x, y, z, roll, -yaw, spin), body coordinates (x, y, z, roll, pitch, yaw)."""
     roles = body_roles(model.vehicle)
     groups: dict[str, list[int]] = {}
     for name, idx in model.ltg.items():
@@ -130,26 +151,55 @@ def _coordinate_groups(model: VehicleModel) -> dict[str, list[int]]:
         yaw = 4 if role == "wheelset" else 5
         for j, i in enumerate(idx):
             motion = {1: "lateral", 3: "roll", yaw: "yaw"}.get(j, "other")
-            groups.setdefault(f"{role}:{motion}", []).append(int(i))
+            key = f"{name} {motion}" if by_body else f"{role}:{motion}"
+            groups.setdefault(key, []).append(int(i))
     return groups
 
 
+#: A running-gear mode in which one motion of one kind of part (the frames' yaw, say) holds at
+#: least this share of the running gear's lateral and yaw energy is named by it ("bogie yaw"),
+#: not hunting (railexu's choice; in hunting the lateral motion carries most of the kinetic
+#: energy, the yaw little: ``I psi'^2 / m y'^2`` is ``(I / m) (2 pi / L)^2``, a few per cent).
+SINGLE_MOTION_SHARE = 0.8
+
+
 def name_mode(shares: dict) -> str | None:
-    """The name of a mode from the shares of its kinetic energy (``role:motion`` -> share):
-    None when less than half of it is lateral (lateral, yaw, roll); hunting when the wheelsets'
-    and bogie frames' lateral and yaw motion holds at least half of the lateral part (bogie
-    hunting when the frames hold more of it than the wheelsets); else the car body's largest
-    motion (lateral, yaw or roll)."""
+    """The name of a mode from the shares of its energy (``role:motion`` -> share): None when
+    less than half of it is lateral (lateral, yaw, roll). When the wheelsets' and bogie frames'
+    lateral and yaw motion hold at least half of the lateral part it is a running-gear mode,
+    of the bogies when the frames hold more of it than the wheelsets: hunting, unless the yaw
+    of the frames (or of the wheelsets) alone holds :data:`SINGLE_MOTION_SHARE` of it (``bogie
+    yaw``, ``wheelset yaw``). Else the largest share's part and motion (``car-body yaw``,
+    ``bogie roll``): only parts the vehicle has appear in a name."""
     lateral = {k: v for k, v in shares.items() if not k.endswith(":other")}
     total_lateral = sum(lateral.values())
     if total_lateral < LATERAL_ENERGY_SHARE:
         return None
     wheelsets = shares.get("wheelset:lateral", 0.0) + shares.get("wheelset:yaw", 0.0)
     bogies = shares.get("bogie:lateral", 0.0) + shares.get("bogie:yaw", 0.0)
-    if wheelsets + bogies >= 0.5 * total_lateral:
-        return "bogie hunting" if bogies > wheelsets else "wheelset hunting"
-    body = {m: shares.get(f"car_body:{m}", 0.0) for m in ("lateral", "yaw", "roll")}
-    return f"car-body {max(body, key=body.get)}"
+    gear = wheelsets + bogies
+    if gear >= 0.5 * total_lateral:
+        part = "bogie" if bogies > wheelsets else "wheelset"
+        if shares.get(f"{part}:yaw", 0.0) >= SINGLE_MOTION_SHARE * gear:
+            return f"{part} yaw"
+        return f"{part} hunting"
+    largest = max(lateral, key=lateral.get)
+    role, motion = largest.split(":")
+    return f"{ROLE_WORDS.get(role, role)} {motion}"
+
+
+def _energy_shares(M, Ks, lam: complex, x: np.ndarray) -> np.ndarray:
+    """Per coordinate the mean of its kinetic energy share ``M_ii |lambda x_i|^2 / sum`` and its
+    strain energy share ``|Re(conj(x_i) (K_s x)_i)| / sum`` (``K_s`` the symmetric part of the
+    stiffness matrix: springs, gravity and the conicity's creep stiffness)."""
+    kinetic = np.abs(np.diag(M)) * np.abs(lam * x) ** 2
+    strain = np.abs(np.real(np.conj(x) * (Ks @ x)))
+    out = np.zeros(x.size)
+    for e in (kinetic, strain):
+        total = float(np.sum(e))
+        if total > 0.0:
+            out += 0.5 * e / total
+    return out
 
 
 def lateral_modes(model: VehicleModel) -> list[Mode]:
@@ -157,62 +207,39 @@ def lateral_modes(model: VehicleModel) -> list[Mode]:
 
     The system ``M q'' + D q' + K q = 0`` from Exudyn's ``ComputeLinearizedSystem`` (about the
     model's initial state: centred, running at its speed) is written in first-order form. Each
-    mode's participation is the share of its kinetic energy ``M_ii |v_i|^2`` (``v = lambda
-    x``, the velocity part of the eigenvector) in each group of coordinates (body role and
-    motion); :func:`name_mode` names it."""
+    mode's participation is the mean of its kinetic energy shares ``M_ii |lambda x_i|^2`` and
+    its strain energy shares ``|Re(conj(x_i) (K_s x)_i)|`` (:func:`_energy_shares`) in each
+    group of coordinates (body role and motion); :func:`name_mode` names it; ``parts`` lists the
+    largest shares by the vehicle's body names; ``shape`` is ``sqrt(M_ii) x_i``, normalised."""
     M, K, D = (np.asarray(m) for m in model.mbs.ComputeLinearizedSystem())
     n = M.shape[0]
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, D)]])
     values, vectors = np.linalg.eig(A)
-    mass = np.abs(np.diag(M))
+    Ks = 0.5 * (K + K.T)
+    root_mass = np.sqrt(np.abs(np.diag(M)))
     groups = _coordinate_groups(model)
+    by_body = _coordinate_groups(model, by_body=True)
     modes = []
     for lam, vec in zip(values, vectors.T, strict=True):
         f = lam.imag / (2.0 * math.pi)
         if not MODE_FREQUENCY_HZ[0] < f < MODE_FREQUENCY_HZ[1]:
             continue
-        energy = mass * np.abs(vec[n:]) ** 2
-        total = float(np.sum(energy))
-        if total == 0.0:
+        x = vec[:n]
+        energy = _energy_shares(M, Ks, complex(lam), x)
+        if not np.sum(energy) > 0.0:
             continue
-        shares = {g: float(np.sum(energy[idx]) / total) for g, idx in groups.items()}
+        shares = {g: float(np.sum(energy[idx])) for g, idx in groups.items()}
         name = name_mode(shares)
-        if name is not None:
-            modes.append(Mode(complex(lam), name, shares))
-    return modes
-
-
-def _least_damped(modes: list[Mode]) -> dict[str, Mode]:
-    """The least damped mode of each name."""
-    out: dict[str, Mode] = {}
-    for m in modes:
-        if m.name not in out or m.damping_ratio < out[m.name].damping_ratio:
-            out[m.name] = m
-    return out
-
-
-def _crossing(speeds, zeta, point, tolerance: float) -> float | None:
-    """The lowest speed where ``zeta`` goes from positive to zero or below, refined by secant
-    steps on ``point(speed) -> damping ratio``."""
-    for i in range(len(speeds) - 1):
-        z_lo, z_hi = zeta[i], zeta[i + 1]
-        if not (math.isfinite(z_lo) and math.isfinite(z_hi) and z_lo > 0.0 >= z_hi):
+        if name is None:
             continue
-        lo, hi = speeds[i], speeds[i + 1]
-        for _ in range(8):
-            mid = lo + (hi - lo) * z_lo / (z_lo - z_hi)
-            mid = min(max(mid, lo + 0.05 * (hi - lo)), hi - 0.05 * (hi - lo))
-            z_mid = point(mid)
-            if not math.isfinite(z_mid):
-                break
-            if z_mid > 0.0:
-                lo, z_lo = mid, z_mid
-            else:
-                hi, z_hi = mid, z_mid
-            if hi - lo < 0.01 * tolerance:
-                break
-        return lo + (hi - lo) * z_lo / (z_lo - z_hi)
-    return None
+        parts = {g: float(np.sum(energy[idx])) for g, idx in by_body.items()
+                 if not g.endswith(" other")}  # fmt: skip
+        top = sorted(parts.items(), key=lambda kv: -kv[1])[:ENERGY_PARTS]
+        shape = root_mass * x
+        shape = shape / np.linalg.norm(shape)
+        parts = {k: v for k, v in top if v >= ENERGY_PART_MIN}
+        modes.append(Mode(complex(lam), name, shares, parts, shape))
+    return modes
 
 
 def linear_stability(
@@ -221,23 +248,33 @@ def linear_stability(
     settings: CriticalSpeedSettings | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> dict:
-    """Follow every named lateral mode over speed; find where each one's damping crosses zero.
+    """Follow every lateral mode over speed by its shape; find where each one's damping crosses
+    zero and in which speed bands it is unstable.
 
-    At each speed the linearised vehicle's oscillatory lateral modes are named by their
-    participation (:func:`name_mode`: wheelset hunting, bogie hunting, car-body lateral, yaw,
-    roll); each name is followed by its least damped mode. Returns a dict with:
+    At each speed the linearised vehicle's oscillatory lateral modes are named by their energy
+    (:func:`name_mode`: wheelset hunting, bogie hunting, car-body lateral, yaw, roll) and linked
+    to the modes at the neighbouring speeds by their shapes (:func:`~railexu.stability.modes.
+    track_branches`, MAC). Returns a dict with:
 
-    - ``critical_speed_m_per_s``: the lowest speed at which any named mode's damping ratio
-      crosses zero, and ``critical_mode`` its name (None when no mode crosses in the range);
-    - ``modes``: per name ``critical_speed_m_per_s``, ``damping_ratio`` and ``frequency_Hz`` at
-      every speed (None where the mode was not found), ``stable_in_range``,
-      ``unstable_in_range``;
+    - ``critical_speed_m_per_s``: the lowest speed at which a followed mode's damping ratio
+      crosses zero, ``critical_mode`` its label, ``critical_band_m_per_s`` the band in which it
+      is unstable (``[from, None]``: unstable up to the highest speed), ``critical_mode_stays_
+      unstable`` whether it stays unstable above (up to the highest speed analysed);
+    - ``persistent_critical_speed_m_per_s`` and ``persistent_mode``: the lowest speed from which
+      a mode stays unstable up to the highest speed analysed (None when none does);
+    - ``modes``: per label (the name, numbered when two branches share it) ``name``,
+      ``critical_speed_m_per_s``, ``unstable_bands_m_per_s``, ``stays_unstable_above``,
+      ``damping_ratio`` and ``frequency_Hz`` at every speed (NaN where not followed),
+      ``energy`` (largest shares by body and motion where it is least damped), ``min_mac``
+      (the smallest MAC that linked it), ``stable_in_range``, ``unstable_in_range``;
+    - ``least_damped``: per speed the least damped modes (label, frequency, damping ratio);
     - ``hunting_critical_speed_m_per_s``: the lowest crossing of a hunting mode;
     - ``speeds_m_per_s``, ``frequency_Hz``, ``damping_ratio``: the least damped hunting mode at
-      each speed (as before the modes were named); ``stable_in_range``/``unstable_in_range`` of
-      it;
-    - ``root_locus``: every named mode at every speed as ``[speed, frequency, damping, name]``;
-    - the equivalent conicity used and the cone slope.
+      each speed; ``stable_in_range``/``unstable_in_range`` of it;
+    - ``root_locus``: every followed mode at every speed as ``[speed, frequency, damping,
+      label]``;
+    - the equivalent conicity used and the cone slope, and ``car_body_suspension``: the
+      suspension elements joined to the car bodies (for the explanation of car-body modes).
     """
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
@@ -253,54 +290,115 @@ def linear_stability(
         settings.speed_min_m_per_s, settings.speed_max_m_per_s, settings.linear_points
     )
     speeds = [float(v) for v in grid]
-    table: list[dict[str, Mode]] = []
+    per_speed = []
     for v in speeds:
-        table.append(_least_damped(modes_at(v)))
+        per_speed.append(modes_at(v))
         if progress:
-            text = ", ".join(f"{k} {m.damping_ratio:+.3f}" for k, m in sorted(table[-1].items()))
-            progress(f"linear: {v:.1f} m/s, damping ratio {text}")
-    modes_out: dict[str, dict] = {}
-    for name in MODE_NAMES:
-        zeta = [row[name].damping_ratio if name in row else math.nan for row in table]
-        if all(math.isnan(z) for z in zeta):
-            continue
-
-        def zeta_of(v: float, name: str = name) -> float:
-            m = _least_damped(modes_at(v)).get(name)
-            return m.damping_ratio if m else math.nan
-
-        finite = [z for z in zeta if math.isfinite(z)]
-        modes_out[name] = {
-            "critical_speed_m_per_s": _crossing(speeds, zeta, zeta_of, settings.tolerance_m_per_s),
-            "damping_ratio": zeta,
-            "frequency_Hz": [row[name].frequency_Hz if name in row else math.nan for row in table],
-            "stable_in_range": bool(finite and all(z > 0.0 for z in finite)),
-            "unstable_in_range": bool(finite and all(z <= 0.0 for z in finite)),
-        }
-    crossings = {k: m["critical_speed_m_per_s"] for k, m in modes_out.items()
-                 if m["critical_speed_m_per_s"] is not None}  # fmt: skip
-    critical_mode = min(crossings, key=crossings.get) if crossings else None
-    hunting = [min((row[k] for k in HUNTING_MODES if k in row), key=lambda m: m.damping_ratio,
-                   default=None) for row in table]  # fmt: skip
+            least = sorted(per_speed[-1], key=lambda m: m.damping_ratio)[:3]
+            text = ", ".join(f"{m.name} {m.frequency_Hz:.2f} Hz {m.damping_ratio:+.3f}"
+                             for m in least)  # fmt: skip
+            progress(f"linear: {v:.1f} m/s, least damped: {text}")
+    branches = track_branches(per_speed)
+    label_branches(branches)
+    modes_out = {b.label: _branch_summary(b, speeds, modes_at, settings) for b in branches}
+    modes_out = dict(sorted(modes_out.items(), key=_mode_order))
+    out = _critical_of(modes_out)
+    hunting = [min((b.modes[k] for b in branches if k in b.modes and b.modes[k].name in
+                    HUNTING_MODES), key=lambda m: m.damping_ratio, default=None)
+               for k in range(len(speeds))]  # fmt: skip
     h_zeta = np.array([m.damping_ratio if m else math.nan for m in hunting])
     h_finite = h_zeta[np.isfinite(h_zeta)]
-    h_cross = [crossings[k] for k in HUNTING_MODES if k in crossings]
+    h_cross = [
+        m["critical_speed_m_per_s"]
+        for m in modes_out.values()
+        if m["name"] in HUNTING_MODES and m["critical_speed_m_per_s"] is not None
+    ]
     return {
-        "critical_speed_m_per_s": crossings.get(critical_mode) if critical_mode else None,
-        "critical_mode": critical_mode,
+        **out,
         "hunting_critical_speed_m_per_s": min(h_cross) if h_cross else None,
         "modes": modes_out,
+        "least_damped": least_damped_table(speeds, branches),
+        "mode_tracking": f"MAC of mass-weighted shapes between neighbouring speeds, >= {MAC_MIN}",
         "stable_in_range": bool(h_finite.size and np.all(h_finite > 0.0)),
         "unstable_in_range": bool(h_finite.size and np.all(h_finite <= 0.0)),
         "speeds_m_per_s": speeds,
         "frequency_Hz": [m.frequency_Hz if m else math.nan for m in hunting],
         "damping_ratio": h_zeta.tolist(),
         "root_locus": [
-            [v, m.frequency_Hz, m.damping_ratio, m.name] for v in speeds for m in modes_at(v)
+            [speeds[k], m.frequency_Hz, m.damping_ratio, b.label]
+            for b in branches
+            for k, m in sorted(b.modes.items())
         ],  # fmt: skip
         "linearization": settings.linearization,
         "equivalent_conicity": info["equivalent_conicity"],
         "conicity_amplitude_m": settings.conicity_amplitude_m,
         "cone_slope": info["cone_slope"],
         "creep_model": "kalker_linear",
+        "car_body_suspension": car_body_suspension(vehicle),
+    }
+
+
+def car_body_suspension(vehicle: Vehicle) -> list[str]:
+    """Names of the suspension elements joined to a car body (:func:`body_roles`)."""
+    roles = body_roles(vehicle)
+    return [el.name for el in vehicle.suspension
+            if any(roles.get(b) == "car_body" for b in el.bodies)]  # fmt: skip
+
+
+def _branch_summary(branch, speeds: list[float], modes_at, settings) -> dict:
+    """One followed mode's entry in ``modes`` (see :func:`linear_stability`)."""
+    zeta = [branch.modes[k].damping_ratio if k in branch.modes else math.nan
+            for k in range(len(speeds))]  # fmt: skip
+    freq = [branch.modes[k].frequency_Hz if k in branch.modes else math.nan
+            for k in range(len(speeds))]  # fmt: skip
+    bands = unstable_bands(speeds, branch, modes_at, settings.tolerance_m_per_s)
+    first = next((b[0] for b in bands if b[0] is not None), None)
+    least = min(branch.modes.values(), key=lambda m: m.damping_ratio)
+    finite = [z for z in zeta if math.isfinite(z)]
+    top = max(branch.modes)
+    return {
+        "name": least.name,
+        "critical_speed_m_per_s": first,
+        "unstable_bands_m_per_s": bands,
+        "stays_unstable_above": bool(
+            bands and bands[-1][1] is None and top == len(speeds) - 1
+        ),  # fmt: skip
+        "damping_ratio": zeta,
+        "frequency_Hz": freq,
+        "energy": dict(least.parts),
+        "min_mac": min(branch.macs) if branch.macs else None,
+        "stable_in_range": bool(finite and all(z > 0.0 for z in finite)),
+        "unstable_in_range": bool(finite and all(z <= 0.0 for z in finite)),
+    }
+
+
+def _mode_order(item) -> tuple:
+    """Modes that become unstable first (by speed), then the others by their least damping."""
+    _, m = item
+    crit = m["critical_speed_m_per_s"]
+    least = min((z for z in m["damping_ratio"] if math.isfinite(z)), default=math.inf)
+    return (crit is None, crit if crit is not None else 0.0, least)
+
+
+def _critical_of(modes: dict) -> dict:
+    """The lowest zero crossing of any mode with its band, and the lowest speed from which a
+    mode stays unstable up to the highest speed analysed."""
+    crossings = {k: m["critical_speed_m_per_s"] for k, m in modes.items()
+                 if m["critical_speed_m_per_s"] is not None}  # fmt: skip
+    mode = min(crossings, key=crossings.get) if crossings else None
+    bands = modes[mode]["unstable_bands_m_per_s"] if mode else []
+    band = next((b for b in bands if b[0] is not None), None)
+    persistent = {
+        k: m["unstable_bands_m_per_s"][-1][0]
+        for k, m in modes.items()
+        if m["stays_unstable_above"] and m["unstable_bands_m_per_s"][-1][0] is not None
+    }
+    p_mode = min(persistent, key=persistent.get) if persistent else None
+    return {
+        "critical_speed_m_per_s": crossings.get(mode) if mode else None,
+        "critical_mode": mode,
+        "critical_band_m_per_s": band,
+        "critical_mode_stays_unstable": bool(mode and band and band[1] is None),
+        "persistent_critical_speed_m_per_s": persistent.get(p_mode) if p_mode else None,
+        "persistent_mode": p_mode,
     }

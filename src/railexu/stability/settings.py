@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 from railexu.errors import InputError, did_you_mean
 
-METHODS = ("linear", "bisection", "ramp")
+METHODS = ("linear", "bisection", "ramp", "branch")
 LINEARIZATIONS = ("equivalent_conicity", "profiles")
 
 
@@ -34,6 +34,14 @@ class CriticalSpeedSettings:
         ramp_deceleration_m_per_s2: deceleration of the ramp.
         ramp_settle_m: distance run at the top speed before the ramp starts.
         time_step_s: integration step of the nonlinear runs.
+        branch_step_m_per_s: speed step of the limit-cycle branch (``branch`` method).
+        max_runs: most runs of the branch method (its budget).
+        fit_fraction: share of each nonlinear run's time (its end) over which the
+            oscillation's envelope is fitted for the growth-rate classification.
+        floor_m: amplitude below which a nonlinear run's oscillation counts as none (stable).
+        limit_cycle_floor_m: a sustained oscillation (limit cycle) smaller than this is a small
+            limit cycle, not hunting (railexu's assumption: the run summary's 1 mm hunting
+            threshold); a growing oscillation is unstable whatever its amplitude.
     """
 
     methods: tuple[str, ...] = METHODS
@@ -49,6 +57,11 @@ class CriticalSpeedSettings:
     ramp_deceleration_m_per_s2: float = 0.5
     ramp_settle_m: float = 200.0
     time_step_s: float = 0.002
+    branch_step_m_per_s: float = 5.0
+    max_runs: int = 30
+    fit_fraction: float = 0.5
+    floor_m: float = 1.0e-4
+    limit_cycle_floor_m: float = 1.0e-3
 
     def __post_init__(self) -> None:
         for m in self.methods:
@@ -69,6 +82,14 @@ class CriticalSpeedSettings:
             raise StabilityError("threshold must be > 0 m")
         if self.linear_points < 2:
             raise StabilityError("linear_points must be >= 2")
+        if not self.branch_step_m_per_s > 0.0:
+            raise StabilityError("branch_step must be > 0 m/s")
+        if self.max_runs < 2:
+            raise StabilityError("max_runs must be >= 2")
+        if not 0.1 <= self.fit_fraction <= 0.9:
+            raise StabilityError("fit_fraction must be between 0.1 and 0.9")
+        if not 0.0 < self.floor_m <= self.limit_cycle_floor_m:
+            raise StabilityError("need 0 < floor <= limit_cycle_floor")
 
 
 CRITICAL_SPEED_KEYS = (
@@ -85,6 +106,11 @@ CRITICAL_SPEED_KEYS = (
     "ramp_deceleration",
     "ramp_settle",
     "time_step",
+    "branch_step",
+    "max_runs",
+    "fit_fraction",
+    "floor",
+    "limit_cycle_floor",
 )
 
 
@@ -124,6 +150,17 @@ def critical_speed_settings_from_dict(
         ),
         ramp_settle_m=sec.quantity("ramp_settle", "m", default=d.ramp_settle_m, minimum=0.0),
         time_step_s=sec.quantity("time_step", "s", default=d.time_step_s, positive=True),
+        branch_step_m_per_s=sec.quantity(
+            "branch_step", "m/s", default=d.branch_step_m_per_s, positive=True
+        ),
+        max_runs=sec.integer("max_runs", default=d.max_runs, minimum=2),
+        fit_fraction=sec.quantity(
+            "fit_fraction", "", default=d.fit_fraction, minimum=0.1, maximum=0.9
+        ),
+        floor_m=sec.quantity("floor", "m", default=d.floor_m, positive=True),
+        limit_cycle_floor_m=sec.quantity(
+            "limit_cycle_floor", "m", default=d.limit_cycle_floor_m, positive=True
+        ),
     )
     try:
         return CriticalSpeedSettings(**kwargs)

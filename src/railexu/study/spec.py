@@ -113,6 +113,9 @@ _KNOWN_UNITS = {
         "ramp_deceleration": "m/s^2",
         "ramp_settle": "m",
         "time_step": "s",
+        "branch_step": "m/s",
+        "floor": "m",
+        "limit_cycle_floor": "m",
     },
 }
 _COLLECT_PATH = re.compile(r"[A-Za-z0-9_]+(?:\.[A-Za-z0-9_]+)*")
