@@ -588,10 +588,9 @@ def test_yaw_damper_with_soft_bushes_equals_its_dynamic_stiffness_at_the_eigenva
     pure damper's eigenvalue differs by 12 %)."""
     k, c = 5.0e6, 250e3
     model, mats = _linearised(_coach_with_yaw_dampers(k, c))
-    from railexu.stability.linear import _least_damped, lateral_modes
+    from railexu.stability.linear import lateral_modes
 
-    modes = _least_damped(lateral_modes(model))
-    hunting = min((modes[n] for n in ("wheelset hunting", "bogie hunting") if n in modes),
+    hunting = min((m for m in lateral_modes(model) if "hunting" in m.name),
                   key=lambda m: m.damping_ratio)  # fmt: skip
     s = hunting.eigenvalue
     big_k = k * c * s / (k + c * s)

@@ -17,6 +17,7 @@ cheap; Exudyn, numba and matplotlib are imported only by what needs them)::
   quasi-static wheel/rail check of ``railexu contact``;
 - :func:`critical_speed`, :class:`CriticalSpeedSettings`: linear and nonlinear critical speeds;
 - :func:`load_study`, :func:`run_study`, :class:`StudyResult`: parameter studies;
+- :func:`acceptance`, :class:`AcceptanceResult`: a vehicle through an EN 14363 programme;
 - :class:`TimeSeries`: a run's recorded signals; :func:`shipped_files`: what ships by name;
 - :class:`InputError`: the one exception type for bad input.
 
@@ -56,9 +57,12 @@ _PUBLIC = {
     "run_study": "railexu.study",
     "StudyResult": "railexu.study",
     "shipped_files": "railexu.inputs.catalog",
+    "acceptance": "railexu.study.acceptance",
+    "AcceptanceResult": "railexu.study.acceptance",
 }
 
 __all__ = [
+    "AcceptanceResult",
     "ContactCheckResult",
     "ContactCheckSettings",
     "ContactParameters",
@@ -70,6 +74,7 @@ __all__ = [
     "TimeSeries",
     "Track",
     "Vehicle",
+    "acceptance",
     "contact_check",
     "critical_speed",
     "load_study",
@@ -93,6 +98,8 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from railexu.simulation.simulate import RunResult
     from railexu.stability import CriticalSpeedSettings, critical_speed
     from railexu.study import StudyResult, load_study, run_study
+    from railexu.study.acceptance import AcceptanceResult
+    from railexu.study.acceptance import run_acceptance as acceptance
     from railexu.track.track import Track, load_track
     from railexu.vehicle.vehicle import Vehicle, load_vehicle
 

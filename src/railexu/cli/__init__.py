@@ -24,7 +24,18 @@ from railexu.runtime import blas_threads  # noqa: F401
 from railexu.runtime import gc_pause
 
 # isort: on
-from railexu.cli import animate, contact, creep, critical_speed, listing, plot, report, run, study
+from railexu.cli import (
+    acceptance,
+    animate,
+    contact,
+    creep,
+    critical_speed,
+    listing,
+    plot,
+    report,
+    run,
+    study,
+)
 from railexu.cli.common import (
     EXIT_BUG,
     EXIT_CODES_HELP,
@@ -40,7 +51,7 @@ from railexu.cli.common import parse_range as parse_range
 from railexu.cli.run import format_summary as format_summary
 from railexu.errors import ComputationError, InputError
 
-COMMANDS = (run, contact, creep, critical_speed, study, plot, animate, report, listing)
+COMMANDS = (run, contact, creep, critical_speed, study, acceptance, plot, animate, report, listing)
 ISSUES_URL = "https://github.com/railexu/railexu/issues"
 
 

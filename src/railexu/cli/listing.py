@@ -1,16 +1,17 @@
-"""The ``railexu list`` sub-command: the shipped vehicles, tracks, studies and profiles."""
+"""The ``railexu list`` sub-command: the shipped vehicles, tracks, studies, acceptance
+programmes and profiles."""
 
 from __future__ import annotations
 
 import argparse
 
-WHAT = ("vehicles", "tracks", "studies", "profiles")
+WHAT = ("vehicles", "tracks", "studies", "programmes", "profiles")
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser(
         "list",
-        help="the shipped vehicles, tracks, studies and profiles, with descriptions",
+        help="the shipped vehicles, tracks, studies, programmes and profiles, with descriptions",
         description=(
             "List what ships with railexu by name: each name works wherever a file goes "
             "(`railexu run eu07 --track straight_irregular`)."
@@ -43,7 +44,12 @@ def listing_text(what: tuple[str, ...] | list[str] = WHAT) -> str:
         if kind == "profiles":
             items = _profiles()
         else:
-            catalog_kind = {"vehicles": "vehicle", "tracks": "track", "studies": "study"}[kind]
+            catalog_kind = {
+                "vehicles": "vehicle",
+                "tracks": "track",
+                "studies": "study",
+                "programmes": "programme",
+            }[kind]
             items = [(f.name, f.description) for f in shipped_files(catalog_kind)]
         lines.append(f"{kind}:")
         width = max((len(n) for n, _ in items), default=0)

@@ -492,10 +492,14 @@ def write_report(folder: str | Path, cases: bool = True, progress=None) -> list[
     Raises:
         InputError: the folder holds neither a run's nor a study's output.
     """
+    from railexu.report.acceptance_page import acceptance_report_html, is_acceptance_folder
     from railexu.report.folder import add_to_manifest
 
     folder = Path(folder)
     written: list[Path] = []
+    if is_acceptance_folder(folder):
+        text = acceptance_report_html(folder, _page, _e, _table, Raw)
+        return [_write(folder, text)]
     if (folder / "study.json").is_file() and (folder / "results.csv").is_file():
         links: dict[str, str] = {}
         # the cases with a row: a case folder without one is being written or was stopped

@@ -233,6 +233,7 @@ def _serve(
     """The warm process: imports, warm-up (then ``warmed`` is set), then each call read from the
     file whose name arrives, and its value (or a failure) written beside it."""
     parent_end.close()  # else its pipe never reads its end when the command's process dies
+    _end_with_parent()
     # Ctrl-C at a terminal reaches the whole process group: the command's process decides
     # about it (a run stops its integration and still assesses and writes its results)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -257,6 +258,19 @@ def _serve(
             conn.send(True)
         except Exception:  # the command's process is gone
             return
+
+
+def _end_with_parent() -> None:
+    """On Linux, the warm process gets SIGTERM when the command's process dies, even by SIGKILL
+    (``prctl(PR_SET_PDEATHSIG)``): no warm process outlives its command, busy or not."""
+    parent = os.getppid()
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent died before the line above
+        os._exit(0)
 
 
 def _answer_call(path: str) -> None:

@@ -1,0 +1,142 @@
+"""``acceptance.json``: what was run, every criterion per zone, the quasi-static tests, the
+verdict.
+
+The verdict (railexu's rule, ``docs/acceptance.md``):
+
+- ``fail``: a criterion of a zone or a quasi-static test exceeds its limit (the criteria that
+  decide it are listed);
+- ``incomplete``: nothing failed, but the verdict cannot be signed: the quick (reduced)
+  programme was run, a zone could not be evaluated or had fewer sections than its minimum, or a
+  quasi-static test was not run;
+- ``pass``: every criterion of every zone and every quasi-static test within its limit.
+
+Criteria whose limit or statistics rest on a value railexu could not confirm in a public text
+are listed under ``verdict.assumptions``: a verdict that rests on one says so.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import asdict, is_dataclass
+from pathlib import Path
+from typing import Any
+
+from railexu.jsonable import jsonable
+from railexu.version import __version__
+
+STANDARD = "EN 14363:2016"
+
+
+def build_acceptance(
+    programme, vehicle_file: Path, vehicle_sha256: str, vehicle_overrides: tuple[str, ...],
+    vehicle, zone_results: dict, section_values: dict, zone_errors: dict, studies: dict,
+    tests: dict,
+) -> dict[str, Any]:  # fmt: skip
+    """The content of ``acceptance.json`` (a JSON-ready mapping)."""
+    zones = {}
+    for zone in programme.zones:
+        zones[zone.name] = _zone_entry(
+            zone,
+            zone_results.get(zone.name),
+            section_values.get(zone.name, []),
+            zone_errors.get(zone.name),
+            studies.get(zone.name),
+        )
+    data = {
+        "standard": STANDARD,
+        "railexu_version": __version__,
+        "vehicle": {
+            "name": vehicle.name,
+            "file": str(vehicle_file),
+            "sha256": vehicle_sha256,
+            "overrides": list(vehicle_overrides),
+        },
+        "category": vehicle.category,
+        "programme": {
+            "name": programme.name,
+            "file": programme.source,
+            "quick": programme.quick,
+            "sources": list(programme.sources),
+            "zones": [_conditions(z) for z in programme.zones],
+        },
+        "zones": zones,
+        "twist_test": tests.get("twist_test", {"status": "not_run", "reason": "not asked for"}),
+        "yaw_resistance_test": tests.get(
+            "yaw_resistance_test", {"status": "not_run", "reason": "not asked for"}
+        ),
+    }
+    data["verdict"] = decide(data)
+    return jsonable(data)
+
+
+def decide(data: dict) -> dict[str, Any]:
+    """The verdict of an acceptance mapping (see the module doc)."""
+    failed, missing, assumptions = [], [], []
+    for name, zone in data["zones"].items():
+        if zone.get("error"):
+            missing.append(f"zone {name}: not evaluated ({zone['error']})")
+            continue
+        if zone.get("reduced"):
+            missing.append(f"zone {name}: fewer sections than the programme's minimum")
+        for crit, c in zone.get("criteria", {}).items():
+            where = f"{name}: {crit}"
+            if c.get("pass") is False:
+                failed.append(f"{where} {_num(c.get('value'))} > {_num(c.get('limit'))} "
+                              f"{c.get('unit', '')} ({c.get('clause', '')})")  # fmt: skip
+            if c.get("assumption") and c.get("pass") is not None:
+                assumptions.append(where)
+    for test in ("twist_test", "yaw_resistance_test"):
+        entry = data.get(test, {})
+        status = entry.get("status")
+        if status == "completed" and entry.get("pass") is False:
+            failed.append(f"{test}: {_num(entry.get('value', entry.get('y_over_q')))} > "
+                          f"{_num(entry.get('limit'))} ({entry.get('clause', '')})")  # fmt: skip
+        elif status not in ("completed", "not_applicable"):
+            missing.append(f"{test}: {status or 'not run'} ({entry.get('reason', '')})")
+    if data["programme"]["quick"]:
+        missing.insert(0, "the quick (reduced) programme: a trend, not an acceptance verdict")
+    if failed:
+        result, reason = "fail", f"{len(failed)} criteria exceed their limits"
+    elif missing:
+        result, reason = "incomplete", missing[0]
+    else:
+        result, reason = "pass", "every criterion within its limit"
+    return {"result": result, "reason": reason, "failed": failed, "missing": missing,
+            "assumptions": assumptions}  # fmt: skip
+
+
+def write_acceptance(path: Path, data: dict) -> None:
+    """Write ``acceptance.json`` atomically (a temporary file renamed into place)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+    tmp.replace(path)
+
+
+def _zone_entry(zone, result, svs: list, error: str | None, study: dict | None) -> dict:
+    entry: dict[str, Any] = {
+        "conditions": _conditions(zone),
+        "method": zone.method,
+        "sections_run": len(svs),
+        "sections": [sv.to_dict() for sv in svs],
+        "study": study or {},
+    }
+    if error:
+        entry["error"] = error
+    if result is not None:
+        entry.update(result.to_dict())
+    return entry
+
+
+def _conditions(zone) -> dict:
+    d = asdict(zone) if is_dataclass(zone) else dict(zone)
+    return {k: v for k, v in d.items() if k != "description"} | {
+        "description": getattr(zone, "description", "")
+    }
+
+
+def _num(value: Any) -> str:
+    if isinstance(value, float) and math.isfinite(value):
+        return f"{value:.4g}"
+    return str(value)
