@@ -264,3 +264,17 @@ def test_assessment_table(run_folder, tmp_path):
     j = page.cells.index("sum_y")
     assert page.cells[j + 8] == "fail"
     assert "exceeded: sum_y" in text
+
+
+def test_settings_are_shown_with_their_units_not_as_json():
+    """A report page shows ``speed 10 m/s``, ``default (not set)`` and ``generalized-alpha``,
+    never ``null`` or a quoted ``"generalized_alpha"`` (issue 27)."""
+    from railexu.report.html_report import _setting_row
+
+    assert _setting_row("speed_m_per_s", 10.0) == ("speed", "10 m/s")
+    assert _setting_row("deceleration_m_per_s2", 0.5) == ("deceleration", "0.5 m/s²")
+    assert _setting_row("time_step_s", 0.002) == ("time step", "0.002 s")
+    assert _setting_row("evaluate_from_m", None) == ("evaluate from", "default (not set)")
+    assert _setting_row("solver", "generalized_alpha") == ("solver", "generalized-alpha")
+    assert _setting_row("contact_outputs", False) == ("contact outputs", "no")
+    assert "null" not in _setting_row("traction", {"torque_N_m": None})[1]

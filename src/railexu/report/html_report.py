@@ -75,7 +75,8 @@ def figure_png_base64(fig: Figure, dpi: int = 100) -> str:
     """A figure as base64 PNG data."""
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
+    # "tight": titles and labels inside the picture (a suptitle wider than the axes was cut)
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
     return base64.b64encode(buf.getvalue()).decode("ascii")
 
 
@@ -219,11 +220,38 @@ def _input_rows(summary: dict, meta: dict) -> list[tuple]:
 
 
 def _settings_rows(summary: dict) -> list[tuple]:
-    rows = [(k, v if isinstance(v, int | float | bool) else json.dumps(v))
-            for k, v in (summary.get("settings") or {}).items()]  # fmt: skip
+    rows = [_setting_row(k, v) for k, v in (summary.get("settings") or {}).items()]
     timings = summary.get("timings_s") or {}
     rows += [(f"time: {k}", float(v)) for k, v in timings.items()]
     return rows
+
+
+#: a setting's name suffix -> the unit shown (the longest suffix first)
+_SETTING_UNITS = (("_m_per_s2", "m/s²"), ("_m_per_s", "m/s"), ("_m", "m"), ("_s", "s"))
+
+
+def _setting_row(key: str, value: object) -> tuple[str, str]:
+    """A setting as a reader takes it: its name in words, its value with its unit (``speed``,
+    ``10 m/s``), ``default`` for an unset value, text without JSON quoting."""
+    name, unit = key, ""
+    for suffix, shown in _SETTING_UNITS:
+        if key.endswith(suffix):
+            name, unit = key[: -len(suffix)], shown
+            break
+    name = name.replace("_", " ")
+    if value is None:
+        return (name, "default (not set)")
+    if isinstance(value, bool):
+        return (name, "yes" if value else "no")
+    if isinstance(value, int | float):
+        return (name, f"{value:.6g} {unit}".strip())
+    if isinstance(value, str):
+        return (name, value.replace("_", "-") if key == "solver" else value)
+    if isinstance(value, dict):
+        return (name, "; ".join(f"{k}: {_setting_row(str(k), v)[1]}" for k, v in value.items()))
+    if isinstance(value, list | tuple):
+        return (name, ", ".join(str(_setting_row("", v)[1]) for v in value))
+    return (name, str(value))
 
 
 def _result_rows(summary: dict) -> list[tuple]:
