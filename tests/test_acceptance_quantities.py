@@ -68,8 +68,10 @@ def _series() -> TimeSeries:
         cols[f"ws{i}_right_Q_N"] = np.full(T.size, Q0 + 10e3 * (i - 1))
         cols[f"ws{i}_left_Q_N"] = Q0 + _sine(20e3 * i, 2.0)
         cols[f"ws{i}_lateral_m"] = np.zeros(T.size)
-    # car body: quasi-static 0.6 m/s^2 outwards (-y in a left curve) plus 0.8 m/s^2 at 2 Hz
-    cols["body_front_acc_y_m_per_s2"] = -0.6 + _sine(0.8, 2.0)
+    # car body: an accelerometer's quasi-static 0.6 m/s^2 towards the centre of the left curve
+    # (+y: the specific force of the centripetal acceleration, docs/conventions.md) plus 0.8
+    # m/s^2 at 2 Hz
+    cols["body_front_acc_y_m_per_s2"] = 0.6 + _sine(0.8, 2.0)
     cols["body_front_acc_z_m_per_s2"] = _sine(1.2, 2.0)
     cols["bogie_1_frame_acc_y_m_per_s2"] = _sine(3.0, 5.0)
     cols["bogie_1_frame_acc_z_m_per_s2"] = np.zeros(T.size)
@@ -102,7 +104,7 @@ def test_car_body_and_bogie_frame_accelerations_against_hand_values(curve_values
     assert v["car_body_acc_y_rms"] == pytest.approx(0.8 / math.sqrt(2.0), rel=1e-4)
     assert v["car_body_acc_z_max"] == pytest.approx(1.2 * P9985, rel=1e-4)
     assert v["car_body_acc_z_rms"] == pytest.approx(1.2 / math.sqrt(2.0), rel=1e-4)
-    assert v["car_body_acc_y_qst"] == pytest.approx(0.6, rel=1e-4)  # outwards positive
+    assert v["car_body_acc_y_qst"] == pytest.approx(0.6, rel=1e-4)  # towards the centre
     ratio = math.tan(math.pi * 5.0 / FS_HZ) / math.tan(math.pi * 10.0 / FS_HZ)
     assert v["bogie_frame_acc_y_max"] == pytest.approx(3.0 / (1.0 + ratio**8), rel=1e-4)
     assert v["bogie_frame_acc_y_rms"] == pytest.approx(3.0 / math.sqrt(2.0), rel=1e-3)

@@ -24,7 +24,7 @@ Quantities (``values`` keys; forces in N, accelerations in m/s^2):
 ``car_body_acc_y_rms``       rms over the window's length of the same band-passed accelerations
 ``car_body_acc_z_rms``
 ``car_body_acc_y_qst``       curves: 50 % of the car body's lateral acceleration low-passed at
-                             20 Hz, positive towards the outside of the curve
+                             20 Hz, positive towards the curve's centre
 ``bogie_frame_acc_y_max``    simplified method: largest magnitude of the bogie frame's lateral
                              acceleration low-passed at 10 Hz; largest bogie point
 ``bogie_frame_acc_y_rms``    simplified method: the same acceleration band-passed at
@@ -340,13 +340,16 @@ def _car_body(out: _Builder, sig: _Signals, points: list[str], section) -> None:
     if section.direction is None:
         out.skip("car_body_acc_y_qst", "m/s^2", "straight track: no quasi-static acceleration")
         return
-    outward = -1.0 if section.direction == "left" else 1.0
-    qst = {p: percentile(sig.cut(outward * sig.low(f"{p}_acc_y_m_per_s2")),
+    # the accelerometer's specific force points to the curve's centre (to the left in a left
+    # curve, docs/conventions.md): the uncompensated lateral acceleration, positive inwards
+    inward = 1.0 if section.direction == "left" else -1.0
+    qst = {p: percentile(sig.cut(inward * sig.low(f"{p}_acc_y_m_per_s2")),
                          PERCENTILE_QUASI_STATIC) for p in points}  # fmt: skip
     value, where = _largest(qst)
     out.add("car_body_acc_y_qst", value, "m/s^2", Processing(
         f"Butterworth low pass {LOWPASS_HZ:g} Hz (zero phase)", "the section's samples",
-        f"{PERCENTILE_QUASI_STATIC:g} % value, positive towards the outside of the curve, "
+        f"{PERCENTILE_QUASI_STATIC:g} % value, positive towards the curve's centre "
+        "(uncompensated), "
         "largest car-body point", clause, where))  # fmt: skip
 
 

@@ -91,7 +91,9 @@ def decide(data: dict) -> dict[str, Any]:
         entry = data.get(test, {})
         status = entry.get("status")
         if status == "completed" and entry.get("pass") is False:
-            failed.append(f"{test}: {_num(entry.get('value', entry.get('y_over_q')))} > "
+            value = next((entry[k] for k in ("value", "x_factor", "y_over_q", "unloading")
+                          if entry.get(k) is not None), None)  # fmt: skip
+            failed.append(f"{test}: {_num(value)} > "
                           f"{_num(entry.get('limit'))} ({entry.get('clause', '')})")  # fmt: skip
         elif status not in ("completed", "not_applicable"):
             missing.append(f"{test}: {status or 'not run'} ({entry.get('reason', '')})")
