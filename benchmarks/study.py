@@ -9,10 +9,9 @@ The study: the seed scenario (the EU07 from a 2 mm offset on 150 m of ideal stra
 - the same study on 2 local worker processes (started for the study: their start-up, imports and
   kernel loading are in the time), and the speed-up (issue 11's budget: at least 1.8x on 2
   cores);
-- the 16 runs one by one with the contacts on threads (``railexu.runtime.threads``, the default
-outside
-  a study), against which 2 workers gain less: one run then already uses part of the second
-  core;
+- the 16 runs one by one with the contacts on threads (``railexu.runtime.threads``, the
+  default outside a study), against which 2 workers gain less: one run then already uses
+  part of the second core;
 - the median time of a case inside the workers against the same case as function calls in this
   process (``run`` and ``write_run`` without plots, as a case does, on one thread; workers stay
   warm: a case must not cost more there), and the call on threads.

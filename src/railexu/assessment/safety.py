@@ -1,8 +1,8 @@
 """Derailment criteria beyond EN 14363's Y/Q: wheel unloading and flange climb.
 
 The run itself stops when a wheel has risen by a fraction of its flange height (the geometric
-check of :mod:`railexu.simulation.simulate`). These criteria catch the situations that come before
-it:
+check of :mod:`railexu.simulation.simulate`). These criteria catch the situations that
+come before it:
 
 - **wheel unloading** ``Delta Q / Q0 = (Q0 - Q) / Q0`` of each wheel (``Q0``: static wheel load):
   the 99.85 % percentile of its 2 m sliding means against :data:`WHEEL_UNLOADING_LIMIT` (0.6).
