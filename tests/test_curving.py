@@ -379,3 +379,35 @@ def test_the_eu07_passes_the_end_of_the_cant_ramp_in_two_point_contact():
     ts = result.timeseries
     assert ts["ws1_s_m"].max() > 190.0 and ts["ws4_s_m"].max() > 175.0  # all past 170 m
     assert np.any(ts["ws1_right_n_contacts"] == 2)
+
+
+def test_the_quasi_static_wheel_forces_balance_the_vehicle(eu07_r600):
+    """EN 14363's quasi-static values (the 50 % value of each wheel's force low-passed at
+    20 Hz, as the acceptance's ``Y_qst`` and ``Q_qst`` take them), summed over the vehicle's
+    wheels, carry its centripetal force and weight in the track plane: within 2 % (issue 27)."""
+    from railexu.assessment.en14363 import LOWPASS_HZ, PERCENTILE_QUASI_STATIC
+    from railexu.assessment.filters import lowpass
+
+    speed, vehicle, result = eu07_r600
+    ts = result.timeseries
+    n_ws = len(vehicle.wheelsets)
+    mass = sum(b.mass_kg for b in vehicle.bodies) + sum(w.mass_kg for w in vehicle.wheelsets)
+    phi = math.asin(0.1 / 1.5)
+    a = speed**2 / 600.0
+    steady = _all_inside(ts, n_ws, 20.0 + 40.0 + 130.0, 380.0)
+    fs_Hz = 1.0 / float(np.median(np.diff(ts["time_s"])))
+
+    def quasi_static_sum(quantity: str) -> float:
+        return sum(
+            float(np.percentile(lowpass(ts[f"ws{i}_{side}_{quantity}"], fs_Hz, LOWPASS_HZ)[steady],
+                                PERCENTILE_QUASI_STATIC))
+            for i in range(1, n_ws + 1)
+            for side in ("left", "right")
+        )  # fmt: skip
+
+    assert quasi_static_sum("Y_N") == pytest.approx(
+        mass * (a * math.cos(phi) - G * math.sin(phi)), rel=0.02
+    )
+    assert quasi_static_sum("Q_N") == pytest.approx(
+        mass * (G * math.cos(phi) + a * math.sin(phi)), rel=0.02
+    )
