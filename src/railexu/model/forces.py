@@ -536,6 +536,24 @@ def _frame_forces(j, q, qt, d, out):
     out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
 
 
+@numba.njit(inline="always", **_JIT)
+def bump_stop_law(d, v, clear, k, c):
+    """Force of a bump stop on its second body along its axis [N] at separation change ``d``
+    [m] and relative velocity ``v`` [m/s]: nothing within ``+-clear``, beyond it
+    ``-k (d -+ clear) - c v``, never pulling (also called from Python, e.g. by the
+    yaw-resistance test)."""
+    f = 0.0
+    if d > clear:
+        f = -k * (d - clear) - c * v
+        if f > 0.0:
+            f = 0.0
+    elif d < -clear:
+        f = -k * (d + clear) - c * v
+        if f < 0.0:
+            f = 0.0
+    return f
+
+
 @numba.njit(**_JIT)
 def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
     """Add the generalized forces of bump stop ``b`` (piecewise-linear spring with clearance
@@ -565,16 +583,7 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
         point_state(ob, bs_real[b, p1], bs_real[b, p1 + 1], bs_real[b, p1 + 2], q, qt, qref,
                     pb, vb, rb)  # fmt: skip
     d = pb[dr] - pa[dr] - bs_real[b, BS_D0]
-    clear = bs_real[b, BS_CLEAR]
-    f = 0.0
-    if d > clear:
-        f = -bs_real[b, BS_K] * (d - clear) - bs_real[b, BS_C] * (vb[dr] - va[dr])
-        if f > 0.0:
-            f = 0.0
-    elif d < -clear:
-        f = -bs_real[b, BS_K] * (d + clear) - bs_real[b, BS_C] * (vb[dr] - va[dr])
-        if f < 0.0:
-            f = 0.0
+    f = bump_stop_law(d, vb[dr] - va[dr], bs_real[b, BS_CLEAR], bs_real[b, BS_K], bs_real[b, BS_C])
     if f != 0.0:
         if box_a:
             apply_axlebox_force(oa, ob, -1.0, f, dr, ra, q, qref, out)

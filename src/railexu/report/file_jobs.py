@@ -52,7 +52,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from railexu.runtime.helpers import CpuWatch, cpu_seconds, free_core
+from railexu.runtime.helpers import CpuWatch, cpu_seconds, end_with_parent, free_core
 from railexu.runtime.threads import run_serially_in_this_process
 from railexu.runtime.warm_process import POLL_S, WarmProcess, can_fork
 
@@ -257,19 +257,17 @@ def write_shares_as_child(
     write_shares(jobs, parts, claims_path)
 
 
-def _stop_with_parent() -> None:
+def _stop_with_parent(parent_pid: int | None = None) -> None:
     """In a child process: SIGTERM raises :class:`KeyboardInterrupt` (so that the file being
-    written is removed, not left half written), and on Linux the child gets SIGTERM when its
-    parent dies, even by SIGKILL (``prctl(PR_SET_PDEATHSIG)``)."""
-    parent = os.getppid()
+    written is removed, not left half written), and the child gets SIGTERM when its parent dies,
+    even by SIGKILL (:func:`railexu.runtime.helpers.end_with_parent`)."""
+    parent = os.getppid() if parent_pid is None else parent_pid
     signal.signal(signal.SIGTERM, _raise_interrupt)
-    if sys.platform.startswith("linux"):
-        import ctypes
+    end_with_parent(parent, _orphaned)
 
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
-    if os.getppid() != parent:  # the parent died before the line above
-        raise KeyboardInterrupt
+
+def _orphaned() -> None:
+    raise KeyboardInterrupt("the command's process is gone")
 
 
 def _raise_interrupt(signum, frame) -> None:
@@ -349,6 +347,7 @@ def _fork_worker(jobs: Sequence[FileJob], claims: _Claims) -> int | None:
     # SIGINT and SIGTERM wait while the process forks (one that arrived during the fork's own
     # handlers would be lost: Python ignores an exception there)
     mask = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    parent = os.getpid()
     try:
         pid = os.fork()
     except OSError:
@@ -356,7 +355,7 @@ def _fork_worker(jobs: Sequence[FileJob], claims: _Claims) -> int | None:
         return None
     if pid == 0:  # the child's only job is its files; a job's failure is marked for the parent
         try:
-            _stop_with_parent()
+            _stop_with_parent(parent)
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
             run_serially_in_this_process()  # a forked child cannot start GNU OpenMP's threads
             _work(jobs, claims)

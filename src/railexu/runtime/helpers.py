@@ -10,6 +10,9 @@ for one that does not progress. :class:`CpuWatch` reads a helper's processor tim
 *starved* (a busy machine gives it no processor time, or it is gone), and the command's process
 then does the helper's work itself. The results are the same whichever process computes them.
 
+No helper outlives its command: :func:`end_with_parent`, called first in every helper, asks Linux
+to send it SIGTERM when the command's process dies, even by SIGKILL.
+
 A helper starts only where the machine has a free core (:func:`free_core`): without one, its
 processor time (its own imports and exit) would only add to the command's wall time.
 
@@ -19,8 +22,12 @@ turns the helpers off: everything runs in the command's own process.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
+import sys
 import time
+from collections.abc import Callable
 
 from railexu.errors import InputError
 
@@ -126,3 +133,16 @@ class CpuWatch:
         if first is None:
             return False
         return (cpu - first[1]) < self.min_share * (now - first[0])
+
+
+def end_with_parent(parent_pid: int, orphaned: Callable[[], None]) -> None:
+    """In a helper process: Linux sends it SIGTERM when its parent dies, even by SIGKILL
+    (``prctl(PR_SET_PDEATHSIG)``); ``orphaned()`` is called when the parent ``parent_pid`` (read
+    before the fork) is already gone, which the request cannot catch."""
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+    if os.getppid() != parent_pid:
+        orphaned()

@@ -44,7 +44,7 @@ import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from railexu.runtime.helpers import CpuWatch, helpers_enabled
+from railexu.runtime.helpers import CpuWatch, end_with_parent, helpers_enabled
 from railexu.runtime.threads import run_serially_in_this_process
 
 #: the warm process's niceness (``os.nice``): the command's own. At 19 (before issue 26) a
@@ -110,7 +110,9 @@ class WarmProcess:
         folder = tempfile.mkdtemp(prefix="railexu-warm-")
         try:
             worker = context.Process(
-                target=_serve, args=(theirs, mine, tuple(preload), warm_up, warmed), daemon=True
+                target=_serve,
+                args=(theirs, mine, tuple(preload), warm_up, warmed, os.getpid()),
+                daemon=True,
             )
             worker.start()
         except OSError:
@@ -228,12 +230,18 @@ class WarmProcess:
 
 
 def _serve(
-    conn, parent_end, preload: tuple[str, ...], warm_up: Callable | None, warmed=None
+    conn,
+    parent_end,
+    preload: tuple[str, ...],
+    warm_up: Callable | None,
+    warmed=None,
+    parent_pid: int | None = None,
 ) -> None:
     """The warm process: imports, warm-up (then ``warmed`` is set), then each call read from the
     file whose name arrives, and its value (or a failure) written beside it."""
     parent_end.close()  # else its pipe never reads its end when the command's process dies
-    _end_with_parent()
+    parent_pid = os.getppid() if parent_pid is None else parent_pid
+    end_with_parent(parent_pid, lambda: os._exit(0))  # no warm process outlives its command
     # Ctrl-C at a terminal reaches the whole process group: the command's process decides
     # about it (a run stops its integration and still assesses and writes its results)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -258,19 +266,6 @@ def _serve(
             conn.send(True)
         except Exception:  # the command's process is gone
             return
-
-
-def _end_with_parent() -> None:
-    """On Linux, the warm process gets SIGTERM when the command's process dies, even by SIGKILL
-    (``prctl(PR_SET_PDEATHSIG)``): no warm process outlives its command, busy or not."""
-    parent = os.getppid()
-    if sys.platform.startswith("linux"):
-        import ctypes
-
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
-    if os.getppid() != parent:  # the parent died before the line above
-        os._exit(0)
 
 
 def _answer_call(path: str) -> None:

@@ -22,7 +22,7 @@ The moments come from the model's own force laws, quasi-statically (no inertia):
   (a slider behind its stick stiffness, a damper behind its bush) advanced by implicit Euler
   steps of their own first-order law (the small internal mass is left out);
 - the bump stops by the law of :mod:`railexu.model.forces` (free play, then a linear spring
-  and damper that only push), :func:`bump_stop_force`;
+  and damper that only push), :func:`railexu.model.forces.bump_stop_law`;
 - the linear connectors (spring-dampers, air springs' shear, torsion springs about z) as the
   Exudyn connectors of :mod:`railexu.model.assembly` act: ``F = F_static - k d - c v``.
 
@@ -40,6 +40,7 @@ from scipy.optimize import brentq
 
 from railexu.errors import InputError
 from railexu.model.body_points import point_state
+from railexu.model.forces import bump_stop_law
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
 from railexu.model.suspension_forces import (
     LAW_PLASTIC,
@@ -347,8 +348,8 @@ class _Rig:
     def _stop_moment(self, el: BumpStop, q, qt) -> float:
         d, v, lever, sign = self._relative(el, q, qt)
         axis = "xyz".index(el.direction)
-        f_b = bump_stop_force(d[axis], v[axis], el.clearance_m, el.stiffness_N_per_m,
-                              el.damping_N_s_per_m)  # fmt: skip
+        f_b = bump_stop_law(d[axis], v[axis], el.clearance_m, el.stiffness_N_per_m,
+                            el.damping_N_s_per_m)  # fmt: skip
         force = np.zeros(3)
         force[axis] = sign * f_b
         return float(lever[0] * force[1] - lever[1] * force[0])
@@ -414,19 +415,6 @@ class _Rig:
         if residual(lo) * residual(hi) > 0.0:
             return u_old
         return u_old + dt * brentq(residual, lo, hi, xtol=1.0e-15, rtol=1.0e-12)
-
-
-def bump_stop_force(
-    d_m: float, v_m_per_s: float, clearance_m: float, k_N_per_m: float, c_N_s_per_m: float
-) -> float:
-    """Force of a bump stop on its second body along its axis [N], the law of the compiled
-    ``railexu.model.forces._bump_stop``: nothing within ``+-clearance``, beyond it
-    ``-k (d -+ clearance) - c v``, and never pulling."""
-    if d_m > clearance_m:
-        return min(0.0, -k_N_per_m * (d_m - clearance_m) - c_N_s_per_m * v_m_per_s)
-    if d_m < -clearance_m:
-        return max(0.0, -k_N_per_m * (d_m + clearance_m) - c_N_s_per_m * v_m_per_s)
-    return 0.0
 
 
 def _plastic_step(d: float, u_old: float, k_s: float, f_c: float, eta: float, dt: float) -> float:
