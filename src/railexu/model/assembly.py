@@ -56,6 +56,7 @@ from railexu.model.statics import StaticSolution, attachment_point, static_equil
 from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
+from railexu.runtime.thread_choice import WINDOW_CALLS, ThreadChoice
 from railexu.runtime.threads import contact_threads, use_threads
 from railexu.track.alignment import Alignment, straight_alignment
 from railexu.track.track import Track
@@ -696,6 +697,11 @@ class VehicleModel:
         # half the time of np.array (0.45 against 0.93 us for 42 numbers, twice per call)
         as_array = np.fromiter
 
+        # with threads: the measured choice between the threaded and the one-thread function
+        # (railexu.runtime.thread_choice), fed the wall time of every WINDOW_CALLS calls
+        self._choice_box = choice_box = [None]
+        window = [0, 0.0]
+
         def contact_forces(mbs_, t, item, q, q_t):
             start = clock()
             if set_time is not None:
@@ -704,8 +710,17 @@ class VehicleModel:
                 as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, out, points,
                 ws_force,
             )  # fmt: skip
+            elapsed = clock() - start
             counter[0] += 1.0
-            counter[1] += clock() - start
+            counter[1] += elapsed
+            chooser = choice_box[0]
+            if chooser is not None:
+                window[0] += 1
+                window[1] += elapsed
+                if window[0] >= WINDOW_CALLS:
+                    compiled["forces"] = chooser.window_done(window[1], window[0])
+                    window[0] = 0
+                    window[1] = 0.0
             return out
 
         jac = np.zeros((n_coords, n_coords))
@@ -981,13 +996,13 @@ class VehicleModel:
         args = (q, qt, self.kernel, self._out, self.points, self.ws_force)
         planned = contact_threads(self.points.shape[0])
         self._threaded = None
+        self._serial_entry = compiled_entry(generalized_forces, *args)
+        self._compiled["forces"] = self._serial_entry
         if planned > 1:
             use_threads(planned)
             self._threaded = (planned, compiled_entry(generalized_forces_threaded, *args))
         if planned > 1 and threads_now:
             self.start_threads(0.0)
-        else:
-            self._compiled["forces"] = compiled_entry(generalized_forces, *args)
 
     @property
     def threads_pending(self) -> bool:
@@ -999,8 +1014,16 @@ class VehicleModel:
         that :meth:`warm_up` prepared (nothing happens if it prepared none)."""
         if self._threaded is None:
             return
-        self.contact_threads, self._compiled["forces"] = self._threaded
+        self.contact_threads, threaded = self._threaded
+        self._compiled["forces"] = threaded
+        self._choice_box[0] = ThreadChoice(self._serial_entry, threaded)
         self.contact_threads_from_s = t
+
+    @property
+    def thread_choice(self) -> ThreadChoice | None:
+        """The measured choice between the threaded and the one-thread force function, once
+        the threads have started (None before and without threads)."""
+        return self._choice_box[0]
 
     def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):
         """Evaluate the compiled forces at a full system state and time ``t`` into the given
