@@ -26,6 +26,11 @@ from railexu.inputs.catalog import find_input
 from railexu.inputs.overrides import set_values
 from railexu.profiles import ProfileError, wheel_profile
 from railexu.vehicle.checks import check_topology
+from railexu.vehicle.format_history import (
+    check_format_1_category,
+    check_format_1_elements,
+    format_1_contact_defaults,
+)
 from railexu.vehicle.parts import (
     AirSpring,
     AntiRollBar,
@@ -207,8 +212,11 @@ def vehicle_from_dict(
     """Validate raw vehicle data (as read from YAML) into a :class:`Vehicle`."""
     lines = lines if lines is not None else LineMap()
     top = VEHICLE.wrap(data, source, lines)
-    if VEHICLE.read(top, "format_version") == 1:
+    version = VEHICLE.read(top, "format_version")
+    if version == 1:
+        check_format_1_category(top)
         data, lines = _upgrade_version_1(data, lines)
+        data = format_1_contact_defaults(data)
         top = VEHICLE.wrap(data, source, lines)
     bodies = [_body(top.child("bodies", n, BODY.keys()), n) for n, _ in top.items("bodies", False)]
     wheelsets = [
@@ -222,6 +230,8 @@ def vehicle_from_dict(
     if duplicates:
         top.fail(f"names used twice among bodies and wheelsets: {', '.join(sorted(duplicates))}")
     suspension = [el for n, _ in top.items("suspension", False) for el in _element(top, n, names)]
+    if version == 1:
+        check_format_1_elements(top, wheelsets)
     loads = [ld for n, _ in top.items("loads", False) for ld in _loads(top, n, names)]
     speed_body = VEHICLE.read(top, "speed_body") or names[0]
     if speed_body not in names:
