@@ -64,3 +64,61 @@ def test_animate_refuses_more_frames_than_an_animation_holds():
     with pytest.raises(InputError, match="frames at playback 0.001"):
         frame_indices(t, AnimationSettings(fps=60.0, playback=1e-3))
     assert frame_indices(t, AnimationSettings(fps=20.0, playback=0.25)).size == 161
+
+
+@pytest.mark.parametrize("value", ["-inf", "-nan", "-Infinity"])
+def test_minus_infinity_is_refused_as_a_value_not_taken_for_an_option(capsys, value):
+    """``--load -inf`` said "expected one argument" (argparse took it for an option)."""
+    with pytest.raises(SystemExit) as info:
+        main(["creep", "--load", value, "--semi-axes", "6 mm", "4 mm"])
+    assert info.value.code == 2
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert f"argument --load: '{value}': expected a finite value in N" in last, last
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "words"),
+    [
+        ("--inclination", "nan", "expected 0 .. 0.1 rad"),  # was a traceback (exit 3)
+        ("--inclination", "inf", "expected 0 .. 0.1 rad"),  # was a traceback (exit 3)
+        ("--inclination", "-1", "expected 0 .. 0.1 rad"),  # -1 rad: was a traceback
+        ("--inclination", "1:0", "expected '1:40'"),
+        ("--inclination", "abc", "expected '1:40'"),
+        ("--lateral", "1e30", "off its rail"),  # was: every position skipped, exit 1
+        ("--lateral", "-1:1:0.1", "off its rail"),
+        ("--amplitudes", "0", "expected > 0"),
+        ("--amplitudes", "-1", "expected > 0"),
+        ("--amplitudes", "1", "EN 15302"),
+    ],
+)
+def test_contact_refuses_absurd_geometry_before_computing(tmp_path, capsys, option, value, words):
+    status = main(["contact", option, value, "--out", str(tmp_path / "c")])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and words in err and "Traceback" not in err, err
+    assert len(err.splitlines()) == 1, err
+    assert not (tmp_path / "c" / "contact.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "words"),
+    [
+        ("--deceleration", "0", "ramp_deceleration 0 m/s^2: expected > 0"),  # was exit 3
+        ("--deceleration", "1e30", "<= 5 m/s^2"),  # was "speed must be <= 150 m/s, got 2.5e+30"
+        ("--linear-points", "1000000000", "linear_points must be 2 .. 1000"),  # ran on and on
+        ("--speed-min", "1e-30", "expected at least 1 m/s"),  # ran
+        ("--tolerance", "1e30", "the searched range (75 m/s)"),  # ran, then failed (exit 1)
+        ("--tolerance", "1e-30", "expected 0.01 m/s"),  # ran
+        ("--threshold", "1e30", "at most 0.02 m"),  # ran: hunting never found
+        ("--threshold", "1e-30", "at least the floor"),  # ran: any motion is hunting
+        ("--initial-lateral", "-1", "at most 0.02 m"),  # ran
+        ("--distance", "1e-30", "at least 20 m"),  # ran
+    ],
+)
+def test_critical_speed_refuses_absurd_settings_before_running(
+    tmp_path, capsys, option, value, words
+):
+    argv = ["critical-speed", "wheelset", "--out", str(tmp_path / "cs"), "--quiet"]
+    status = main([*argv, option, value])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and words in err and "Traceback" not in err, err
+    assert len(err.splitlines()) == 1, err
