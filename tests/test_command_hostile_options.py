@@ -122,3 +122,34 @@ def test_critical_speed_refuses_absurd_settings_before_running(
     err = capsys.readouterr().err.strip()
     assert status == 2 and words in err and "Traceback" not in err, err
     assert len(err.splitlines()) == 1, err
+
+
+def test_study_refuses_a_million_workers_before_starting_any(tmp_path, capsys):
+    """``--workers 1000000`` forked one process per pending case (several hundred MB each)."""
+    from railexu.study.runner import max_workers
+
+    study = tmp_path / "s.yaml"
+    study.write_text(
+        "format_version: 1\nname: workers\nbase:\n  vehicle: wheelset\n"
+        "  run: {distance: 0.3 m}\nvary:\n  parameters:\n    run.speed: [10 m/s, 11 m/s]\n"
+    )
+    out = tmp_path / "out"
+    status = main(["study", str(study), "--out", str(out), "--quiet", "--workers", "1000000"])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and f"at most {max_workers()}" in err and "Traceback" not in err, err
+    assert not (out / "results.csv").exists()
+
+
+@pytest.mark.parametrize("address", ["abc", "", "nan"])
+def test_study_refuses_a_scheduler_that_is_no_address(tmp_path, capsys, address):
+    """'abc' was a traceback from dask.distributed's address parser (exit 3)."""
+    pytest.importorskip("distributed")
+    study = tmp_path / "s.yaml"
+    study.write_text(
+        "format_version: 1\nname: scheduler\nbase:\n  vehicle: wheelset\n"
+        "  run: {distance: 0.3 m}\nvary:\n  parameters:\n    run.speed: [10 m/s]\n"
+    )
+    argv = ["study", str(study), "--out", str(tmp_path / "o"), "--quiet", "--scheduler", address]
+    status = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and "not a Dask scheduler address" in err and "Traceback" not in err, err
