@@ -153,3 +153,11 @@ def test_study_refuses_a_scheduler_that_is_no_address(tmp_path, capsys, address)
     status = main(argv)
     err = capsys.readouterr().err.strip()
     assert status == 2 and "not a Dask scheduler address" in err and "Traceback" not in err, err
+
+
+@pytest.mark.parametrize("value", ["", ","])
+def test_plot_refuses_an_empty_format_list(run_folder, capsys, value):
+    """``--plots ''`` drew nothing and exited 0."""
+    status = main(["plot", str(run_folder), "--plots", value])
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and "give png, svg" in err, err

@@ -160,6 +160,8 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
     items = [t.strip().lower() for t in text.split(",") if t.strip()]
     if no_plots or items == ["none"]:
         return ()
+    if not items:  # '' or ',': a scripting slip, not a choice of no figures
+        raise CliError(f"--plots {text!r}: give png, svg (comma-separated) or none")
     for item in items:
         if item not in FORMATS:
             raise CliError(
