@@ -126,24 +126,33 @@ import os, signal, sys, time
 signal.signal(signal.SIGINT, signal.default_int_handler)
 MAIN = os.getpid()
 import railexu.results.run as results_run
+import railexu.report.run_files as run_files
 
-def assess(*args, **kwargs):  # after the integration, before the files
+def kill_main(*args, **kwargs):
     os.kill(MAIN, signal.{signal})
     time.sleep(20)
 
-results_run.assess = assess
+if {where!r} == "assessment":  # after the integration, before the files
+    results_run.assess = kill_main
+else:  # in this process's own writing: after the time series, before the state file
+    run_files._state_writer = lambda result, path: kill_main
 from railexu.cli import entry_point
 sys.argv = ["railexu", "run", {vehicle!r}, "--distance", "0.3", "--out", {out!r}, "--quiet"]
 entry_point()
 """
 
 
-@pytest.mark.parametrize("sig", ["SIGTERM", "SIGINT", "SIGKILL"])
-def test_railexu_run_signalled_after_the_integration(older, tmp_path, sig):
+@pytest.mark.parametrize(
+    ("sig", "where"),
+    [("SIGTERM", "assessment"), ("SIGINT", "assessment"), ("SIGKILL", "assessment"),
+     ("SIGKILL", "writing")],
+)  # fmt: skip
+def test_railexu_run_signalled_after_the_integration(older, tmp_path, sig, where):
     """The command as users start it (with its helper processes): exit 1 (-9 for SIGKILL),
-    the folder marked incomplete, no process of the command left within 10 s."""
+    the folder marked incomplete, no process of the command left within 10 s. (SIGTERM and
+    SIGINT while writing: tests/test_folder_contract.py.)"""
     out = shutil.copytree(older, tmp_path / "run")
-    code = _SIGNALLED_RUN.format(signal=sig, vehicle=WHEELSET, out=str(out))
+    code = _SIGNALLED_RUN.format(signal=sig, vehicle=WHEELSET, out=str(out), where=where)
     proc = subprocess.Popen(
         [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         start_new_session=True, env={**os.environ, "PYTHONPATH": str(ROOT / "src")},
