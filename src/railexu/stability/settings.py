@@ -13,6 +13,22 @@ METHODS = ("linear", "bisection", "ramp", "branch")
 LINEARIZATIONS = ("equivalent_conicity", "profiles")
 
 
+#: Finest bisection bracket [m/s]: 0.01 m/s of a 75 m/s range is 13 runs; a critical speed is
+#: not defined finer than that (it moves with the disturbance and the run length).
+MIN_TOLERANCE_M_PER_S = 0.01
+#: Largest hunting threshold and initial lateral offset [m]: the flanges stop a wheelset about
+#: 10 mm from the track centre (flangeway clearance), so a larger amplitude is never reached.
+MAX_LATERAL_M = 0.02
+#: Lowest speed searched [m/s].
+MIN_SPEED_M_PER_S = 1.0
+#: Shortest run of the nonlinear methods [m]: hunting wavelengths are 10-30 m.
+MIN_DISTANCE_M = 20.0
+#: Most speeds of the linear analysis.
+MAX_LINEAR_POINTS = 1000
+#: Steepest deceleration of the ramp method [m/s^2].
+MAX_DECELERATION_M_PER_S2 = 5.0
+
+
 class StabilityError(InputError):
     """Invalid critical-speed settings."""
 
@@ -71,6 +87,12 @@ class CriticalSpeedSettings:
             raise StabilityError(
                 f"linearization {self.linearization!r}: expected one of {', '.join(LINEARIZATIONS)}"
             )
+        if not self.speed_min_m_per_s >= MIN_SPEED_M_PER_S:
+            raise StabilityError(
+                f"speed_min {self.speed_min_m_per_s:g} m/s: expected at least "
+                f"{MIN_SPEED_M_PER_S:g} m/s (critical speeds of rail vehicles are above 10 m/s; "
+                "below 1 m/s the creepages, normalised by the speed, lose their meaning)"
+            )
         if not 0.0 < self.speed_min_m_per_s < self.speed_max_m_per_s <= 150.0:
             raise StabilityError(
                 "need 0 < speed_min < speed_max <= 150 m/s (the limit of a run's speed), got "
@@ -78,10 +100,44 @@ class CriticalSpeedSettings:
             )
         if not self.tolerance_m_per_s > 0.0:
             raise StabilityError("tolerance must be > 0 m/s")
+        span = self.speed_max_m_per_s - self.speed_min_m_per_s
+        if not MIN_TOLERANCE_M_PER_S <= self.tolerance_m_per_s <= span:
+            raise StabilityError(
+                f"tolerance {self.tolerance_m_per_s:g} m/s: expected {MIN_TOLERANCE_M_PER_S:g} "
+                f"m/s .. the searched range ({span:g} m/s); a finer bracket only adds runs"
+            )
         if not self.threshold_m > 0.0:
             raise StabilityError("threshold must be > 0 m")
-        if self.linear_points < 2:
-            raise StabilityError("linear_points must be >= 2")
+        if not self.threshold_m >= self.floor_m:
+            raise StabilityError(
+                f"threshold {self.threshold_m:g} m: expected at least the floor "
+                f"{self.floor_m:g} m (an oscillation below it counts as none)"
+            )
+        if not self.distance_m >= MIN_DISTANCE_M:
+            raise StabilityError(
+                f"distance {self.distance_m:g} m: expected at least {MIN_DISTANCE_M:g} m (a "
+                "hunting wavelength is 10-30 m; a run must hold several to judge it)"
+            )
+        for name, value in (("threshold", self.threshold_m),
+                            ("initial_lateral", self.initial_lateral_m)):  # fmt: skip
+            if not abs(value) <= MAX_LATERAL_M:
+                raise StabilityError(
+                    f"{name} {value:g} m: expected at most {MAX_LATERAL_M:g} m (the flanges stop "
+                    "a wheelset about 10 mm from the track centre)"
+                )
+        if not 2 <= self.linear_points <= MAX_LINEAR_POINTS:
+            raise StabilityError(
+                f"linear_points must be 2 .. {MAX_LINEAR_POINTS} (0.075 m/s steps over 75 m/s), "
+                f"got {self.linear_points}"
+            )
+        if not 0.0 < self.ramp_deceleration_m_per_s2 <= MAX_DECELERATION_M_PER_S2:
+            raise StabilityError(
+                f"ramp_deceleration {self.ramp_deceleration_m_per_s2:g} m/s^2: expected > 0 and "
+                f"<= {MAX_DECELERATION_M_PER_S2:g} m/s^2 (trains brake at 1-1.5 m/s^2; a "
+                "faster ramp outruns the growth of the hunting it is to find)"
+            )
+        if not self.ramp_settle_m >= 0.0:
+            raise StabilityError(f"ramp_settle {self.ramp_settle_m:g} m: expected >= 0 m")
         if not self.branch_step_m_per_s > 0.0:
             raise StabilityError("branch_step must be > 0 m/s")
         if self.max_runs < 2:
