@@ -54,6 +54,7 @@ from railexu.model.forces import (
 )
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
 from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
+from railexu.model.vertical_forces import VerticalForces
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
 from railexu.runtime.threads import contact_threads, use_threads
@@ -157,6 +158,9 @@ class VehicleModel:
         self.traction = traction
         self.alignment: Alignment = getattr(track, "alignment", None) or straight_alignment()
         self.curved = not self.alignment.is_straight
+        vertical = getattr(track, "vertical", None)
+        #: the track's vertical profile (None: level track, no vertical forces)
+        self.vertical = None if vertical is None or vertical.is_level else vertical
         self.contact_params = vehicle.contact
         self.params = vehicle.contact.kernel_vector(self.speed)
 
@@ -658,7 +662,7 @@ class VehicleModel:
         ode_nodes = [self.node[n] for n in wheelset_names]
         extra = [n for a, b, *_ in self.bump_stops for n in (a, b)]
         extra += [n for e in self.kernel_elements for n in e.bodies]
-        if self.curved:
+        if self.curved or self.vertical is not None:
             extra += list(self.node)
         for name in extra:
             if self.node[name] not in ode_nodes:
@@ -680,6 +684,7 @@ class VehicleModel:
         points = self.points
         ws_force = self.ws_force
         set_time = self.set_time if self.curved else None
+        vertical = self._vertical_forces(slot)
         # the compiled functions, replaced by their machine-code entries in warm_up()
         self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
         #: threads of the wheelsets' contacts in the force function (railexu.runtime.threads), and
@@ -700,10 +705,10 @@ class VehicleModel:
             start = clock()
             if set_time is not None:
                 set_time(t)
-            compiled["forces"](
-                as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, out, points,
-                ws_force,
-            )  # fmt: skip
+            q_a, qt_a = as_array(q, float, n_coords), as_array(q_t, float, n_coords)
+            compiled["forces"](q_a, qt_a, data, out, points, ws_force)
+            if vertical is not None:
+                vertical.add(q_a, qt_a, out)
             counter[0] += 1.0
             counter[1] += clock() - start
             return out
@@ -734,6 +739,36 @@ class VehicleModel:
                 jacobianUserFunction=contact_jacobian,
             )
         )
+
+    def _vertical_forces(self, slot: dict[int, int]) -> VerticalForces | None:
+        """The vertical alignment's forces on every body and wheelset (None on a level track,
+        :mod:`railexu.model.vertical_forces`)."""
+        if self.vertical is None:
+            return None
+        names = list(self.node)
+        slots = np.array([slot[self.node[n]] for n in names], dtype=np.int64)
+        qref = self.kernel.qref
+        wheelsets = set(self.wheelset_names())
+        # a wheelset's axle is its body's third axis (its spin inertia is about the lateral)
+        pitch = [self.inertia[n][1][2 if n in wheelsets else 1] for n in names]
+        roll = None
+        if self.curved:
+            from railexu.model.forces import FR_S
+            from railexu.track.alignment import TAB_FROLL
+
+            start, step, tab = self.align_sampled
+            grid = start + step * np.arange(tab.shape[0])
+            frame = self.kernel.frame
+
+            def roll() -> float:
+                return float(np.interp(frame[FR_S], grid, tab[:, TAB_FROLL]))
+
+        return VerticalForces(
+            self.vertical, slots, qref[6 * slots],
+            np.stack([qref[6 * slots + k] for k in (3, 4, 5)], axis=1),
+            np.array([self.inertia[n][0] for n in names]), np.array(pitch),
+            self.vehicle.gravity_m_per_s2, roll,
+        )  # fmt: skip
 
     def _kernel_data(self, slot: dict[int, int]) -> KernelData:
         """The named inputs of the compiled force functions."""
