@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 if TYPE_CHECKING:
     from railexu.track.alignment import Alignment
+    from railexu.track.vertical import VerticalAlignment
 
 #: Colours of the section kinds (background bands).
 SECTION_COLOURS = {"curve": "#f4d6c6", "transition": "#fbeed9", "measured": "#e8e8f4"}
@@ -54,4 +55,38 @@ def track_figure(alignment: Alignment, title: str = "", step_m: float = 0.5) -> 
     ax2.plot(s, alignment.cant(s) * 1e3, color="tab:orange", ls="--", label="cant")
     ax2.set_ylabel("cant [mm] (+ right rail higher)", color="tab:orange")
     ax1.set_title("curvature and cant (shaded: transitions, curves)")
+    return fig
+
+
+def vertical_profile_figure(
+    vertical: VerticalAlignment, title: str = "", s_range_m: tuple[float, float] | None = None
+) -> Figure:
+    """Elevation, gradient and vertical curvature against distance (vertical curves shaded),
+    over ``s_range_m`` (default: the profile's stations)."""
+    lo, hi = s_range_m if s_range_m is not None else (vertical.grid_m[0], vertical.end_m)
+    if not hi > lo:
+        hi = lo + 1.0
+    s = np.linspace(lo, hi, 1000)
+    fig = Figure(figsize=(10, 8))
+    fig.subplots_adjust(left=0.1, right=0.95, bottom=0.07, top=0.93, hspace=0.35)
+    rows = (
+        (vertical.elevation(s), "elevation [m]", "top of rail on the centre line"),
+        (1e3 * vertical.gradient_at(s), "gradient [per mille] (+ rising)", "gradient"),
+        (1e3 * vertical.curvature(s), "vertical curvature [1/km] (+ sag)",
+         "vertical curvature = 1 / R_v"),
+    )  # fmt: skip
+    axes = []
+    for k, (values, label, what) in enumerate(rows):
+        ax = fig.add_subplot(3, 1, k + 1, sharex=axes[0] if axes else None)
+        for curve in vertical.curves:
+            if curve.end_m >= lo and curve.start_m <= hi:
+                ax.axvspan(curve.start_m, curve.end_m, color=SECTION_COLOURS["curve"], lw=0)
+        ax.plot(s, values, color="k", lw=1.2)
+        ax.set_ylabel(label)
+        ax.set_title(what, fontsize=10)
+        ax.grid(True, alpha=0.4)
+        axes.append(ax)
+    axes[-1].set_xlabel("distance along the track [m]")
+    head = f"{title}: vertical profile" if title else "vertical profile"
+    fig.suptitle(f"{head} ({vertical.kind}; shaded: vertical curves)")
     return fig

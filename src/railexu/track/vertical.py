@@ -241,11 +241,15 @@ def vertical_from_samples(
     distance_m, elevation_m, smoothing_m: float = MEASURED_SMOOTHING_M, source: str = ""
 ) -> VerticalAlignment:
     """A measured profile: elevation samples (linear between them), resampled every
-    :data:`STEP_M`, smoothed by a Gaussian of ``smoothing_m`` and differentiated."""
+    :data:`STEP_M`, smoothed by a Gaussian of ``smoothing_m`` (about the straight line
+    through the record's ends) and differentiated."""
     d = np.asarray(distance_m, float)
     s = np.arange(d[0], d[-1] + 0.5 * STEP_M, STEP_M)
     z = np.interp(s, d, np.asarray(elevation_m, float))
-    zs = _rounded(z, smoothing_m) if s.size > 2 else z
+    # smoothed about the line through the ends, so that a constant gradient stays exact up to
+    # the record's ends (the Gaussian's "nearest" continuation would bend it there)
+    line = z[0] + (z[-1] - z[0]) * (s - s[0]) / max(s[-1] - s[0], STEP_M)
+    zs = line + _rounded(z - line, smoothing_m) if s.size > 2 else z
     g = np.gradient(zs, STEP_M)
     kappa = np.gradient(g, STEP_M) / (1.0 + g * g) ** 1.5
     return VerticalAlignment(float(s[0]), STEP_M, zs, g, kappa, "measured", [], source)
@@ -354,7 +358,8 @@ def vertical_from_dict(
         if abs(g) > steepest:
             Section(raw[j + 1], source, lines, ("vertical", "stations", j + 1)).fail(
                 f"the gradient from station {j + 1} to {j + 2} is {1e3 * g:.1f} per mille, "
-                f"steeper than {1e3 * steepest:g} per mille" + _rack_hint(rack), key="elevation"
+                f"steeper than {1e3 * steepest:g} per mille" + _rack_hint(rack),
+                key="elevation",
             )
 
     def where(i: int, message: str):
@@ -398,12 +403,26 @@ def _measured(top: Section, path, steepest: float, rack: bool, source: str) -> V
     steep = float(np.max(np.abs(profile.gradient)))
     if steep > steepest:
         at = float(profile.grid_m[int(np.argmax(np.abs(profile.gradient)))])
-        top.fail(f"the profile's gradient reaches {1e3 * steep:.1f} per mille at {at:.1f} m, "
+        top.fail(f"{file.name}: the profile's gradient reaches {1e3 * steep:.1f} per mille at "
+                 f"{at:.1f} m, "
                  f"steeper than {1e3 * steepest:g} per mille" + _rack_hint(rack),
                  key="file")  # fmt: skip
     radius = 1.0 / max(float(np.max(np.abs(profile.curvature_1_per_m))), 1e-12)
     if radius < MIN_VERTICAL_RADIUS_M:
-        top.fail(f"the smoothed profile has a vertical curve of radius {radius:.0f} m, below "
+        top.fail(f"{file.name}: the smoothed profile has a vertical curve of radius "
+                 f"{radius:.0f} m, below "
                  f"{MIN_VERTICAL_RADIUS_M:g} m: check the elevation's unit or the survey",
                  key="file")  # fmt: skip
     return profile
+
+
+def vertical_columns(vertical: VerticalAlignment, s_m: np.ndarray) -> dict[str, np.ndarray]:
+    """Time-series columns of the vertical profile at the distances ``s_m`` (the leading
+    wheelset's): elevation [m], gradient [per mille, positive rising] and vertical curvature
+    [1/m, positive in a sag]."""
+    s = np.asarray(s_m, dtype=float)
+    return {
+        "track_elevation_m": vertical.elevation(s),
+        "track_gradient_per_mille": 1e3 * vertical.gradient_at(s),
+        "track_vertical_curvature_1_per_m": vertical.curvature(s),
+    }
