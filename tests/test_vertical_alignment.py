@@ -255,11 +255,12 @@ def test_wheel_loads_in_a_vertical_curve(crest, monkeypatch):
     mass = sum(b.mass_kg for b in veh.bodies) + sum(w.mass_kg for w in veh.wheelsets)
     radius, speed, grad = 1500.0, 30.0, 0.025
     mid = 60.0 * grad if crest else -60.0 * grad
+    end = mid - 80.0 * grad if crest else mid + 80.0 * grad
     track = _track(
         _stations(
             {"position": 0, "elevation": 0},
             {"position": 60, "elevation": mid, "radius": radius},
-            {"position": 120, "elevation": 0},
+            {"position": 140, "elevation": end},
         )
     )
     result = simulate(veh, track, RunSettings(speed_m_per_s=speed, distance_m=110.0,
@@ -308,3 +309,19 @@ def test_vertical_profile_figure_has_units():
         "gradient [per mille] (+ rising)",
         "vertical curvature [1/km] (+ sag)",
     ]
+
+
+def test_run_beyond_the_vertical_profile_is_refused():
+    """Beyond the last station the profile could only continue on the end gradient, which the
+    file does not describe: refused before the run, naming what fits (as for the horizontal
+    geometry, docs/track-format.md)."""
+    from railexu.simulation.preflight import check_run_within_track
+
+    veh = load_vehicle(find_input("vehicle", "wheelset"))
+    track = _track(_stations({"position": 0, "elevation": 0}, {"position": 50, "elevation": 1}))
+    check_run_within_track(veh, track, RunSettings(speed_m_per_s=10.0, distance_m=49.0))
+    with pytest.raises(InputError, match="at most 49 m fit"):
+        check_run_within_track(veh, track, RunSettings(speed_m_per_s=10.0, distance_m=60.0))
+    late = dataclasses.replace(track, start_m=-5.0)
+    with pytest.raises(InputError, match="outside the track's vertical profile"):
+        check_run_within_track(veh, late, RunSettings(speed_m_per_s=10.0, distance_m=10.0))
