@@ -278,6 +278,7 @@ class VehicleModel:
         self._add_wheelsets()
         self._add_suspension()
         self._add_loads()
+        self._add_vertical_loads()
         self._sample_track()
         self._add_rail_masses()
         self._add_contact_element()
@@ -291,6 +292,8 @@ class VehicleModel:
             name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
             for name, n in self.rail_node.items()
         }
+        if self.vertical_forces is not None:
+            self.update_vertical_loads()
         rail_of = {n: name for name, n in self.rail_node.items()}
         self.internal_ltg = (
             np.asarray(self.mbs.systemData.GetNodeLTGODE2(self.internal_node), dtype=np.int64)
@@ -589,6 +592,54 @@ class VehicleModel:
             )
             self.mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=list(load.force_N)))
 
+    def _add_vertical_loads(self) -> None:
+        """On a track with a vertical profile, a force and a torque on every body and wheelset
+        for its gradient and vertical curvature (:mod:`railexu.model.vertical_forces`), set at
+        the start of every step (:meth:`update_vertical_loads`)."""
+        from exudyn.itemInterface import LoadForceVector, LoadTorqueVector, MarkerBodyRigid
+
+        self.vertical_forces: VerticalForces | None = None
+        if self.vertical is None:
+            return
+        names = list(self.node)
+        wheelsets = set(self.wheelset_names())
+        # a wheelset's axle is its body's third axis (its spin inertia is about the lateral)
+        pitch = [self.inertia[n][1][2 if n in wheelsets else 1] for n in names]
+        self.vertical_forces = VerticalForces(
+            self.vertical, np.array([self.inertia[n][0] for n in names]), np.array(pitch),
+            self.vehicle.gravity_m_per_s2,
+        )  # fmt: skip
+        self.vertical_loads: list[tuple[str, int, int]] = []
+        for name in names:
+            m = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[name]))
+            force = self.mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=[0.0] * 3))
+            torque = self.mbs.AddLoad(
+                LoadTorqueVector(markerNumber=m, loadVector=[0.0] * 3, bodyFixed=False)
+            )
+            self.vertical_loads.append((name, force, torque))
+
+    def update_vertical_loads(self) -> None:
+        """Set the vertical profile's forces and torques from the current state (each body's
+        distance along the track and forward speed; the vehicle frame's cant roll on curved
+        track): constant over the step that follows, in which a body moves a few centimetres
+        of a profile that changes over metres."""
+        data = self.mbs.systemData
+        q = data.GetODE2Coordinates()
+        qt = data.GetODE2Coordinates_t()
+        s = np.array([self.centre[n][0] + q[self.ltg[n][0]] for n, _, _ in self.vertical_loads])
+        v = np.array([qt[self.ltg[n][0]] for n, _, _ in self.vertical_loads])
+        roll = 0.0
+        if self.curved:
+            from railexu.track.alignment import TAB_FROLL
+
+            start, step, tab = self.align_sampled
+            u = (self.kernel.frame[0] - start) / step
+            roll = float(np.interp(u, np.arange(tab.shape[0]), tab[:, TAB_FROLL]))
+        forces, torques = self.vertical_forces.loads(s, v, roll)
+        for k, (_, force, torque) in enumerate(self.vertical_loads):
+            self.mbs.SetLoadParameter(force, "loadVector", forces[k].tolist())
+            self.mbs.SetLoadParameter(torque, "loadVector", torques[k].tolist())
+
     def _sample_track(self) -> None:
         """Irregularities and design geometry sampled along the whole run.
 
@@ -662,7 +713,7 @@ class VehicleModel:
         ode_nodes = [self.node[n] for n in wheelset_names]
         extra = [n for a, b, *_ in self.bump_stops for n in (a, b)]
         extra += [n for e in self.kernel_elements for n in e.bodies]
-        if self.curved or self.vertical is not None:
+        if self.curved:
             extra += list(self.node)
         for name in extra:
             if self.node[name] not in ode_nodes:
@@ -684,7 +735,6 @@ class VehicleModel:
         points = self.points
         ws_force = self.ws_force
         set_time = self.set_time if self.curved else None
-        vertical = self._vertical_forces(slot)
         # the compiled functions, replaced by their machine-code entries in warm_up()
         self._compiled = compiled = {"forces": generalized_forces, "jacobian": jacobian}
         #: threads of the wheelsets' contacts in the force function (railexu.runtime.threads), and
@@ -705,10 +755,10 @@ class VehicleModel:
             start = clock()
             if set_time is not None:
                 set_time(t)
-            q_a, qt_a = as_array(q, float, n_coords), as_array(q_t, float, n_coords)
-            compiled["forces"](q_a, qt_a, data, out, points, ws_force)
-            if vertical is not None:
-                vertical.add(q_a, qt_a, out)
+            compiled["forces"](
+                as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, out, points,
+                ws_force,
+            )  # fmt: skip
             counter[0] += 1.0
             counter[1] += clock() - start
             return out
@@ -739,36 +789,6 @@ class VehicleModel:
                 jacobianUserFunction=contact_jacobian,
             )
         )
-
-    def _vertical_forces(self, slot: dict[int, int]) -> VerticalForces | None:
-        """The vertical alignment's forces on every body and wheelset (None on a level track,
-        :mod:`railexu.model.vertical_forces`)."""
-        if self.vertical is None:
-            return None
-        names = list(self.node)
-        slots = np.array([slot[self.node[n]] for n in names], dtype=np.int64)
-        qref = self.kernel.qref
-        wheelsets = set(self.wheelset_names())
-        # a wheelset's axle is its body's third axis (its spin inertia is about the lateral)
-        pitch = [self.inertia[n][1][2 if n in wheelsets else 1] for n in names]
-        roll = None
-        if self.curved:
-            from railexu.model.forces import FR_S
-            from railexu.track.alignment import TAB_FROLL
-
-            start, step, tab = self.align_sampled
-            grid = start + step * np.arange(tab.shape[0])
-            frame = self.kernel.frame
-
-            def roll() -> float:
-                return float(np.interp(frame[FR_S], grid, tab[:, TAB_FROLL]))
-
-        return VerticalForces(
-            self.vertical, slots, qref[6 * slots],
-            np.stack([qref[6 * slots + k] for k in (3, 4, 5)], axis=1),
-            np.array([self.inertia[n][0] for n in names]), np.array(pitch),
-            self.vehicle.gravity_m_per_s2, roll,
-        )  # fmt: skip
 
     def _kernel_data(self, slot: dict[int, int]) -> KernelData:
         """The named inputs of the compiled force functions."""
@@ -938,6 +958,8 @@ class VehicleModel:
         must reach (prescribed motion: the constraint's offset, the creepages' normalising
         speed), or (free motion) the torques, the normalising speed and the frame's motion.
         Returns False when a free run has covered ``distance_m`` or stopped."""
+        if self.vertical_forces is not None:
+            self.update_vertical_loads()
         if self.traction is None:
             v_next = self.speed_at(t_end)
             self.mbs.SetObjectParameter(self.speed_constraint, "offset", v_next)

@@ -1,10 +1,12 @@
-"""Generalized forces of the track's vertical alignment on the vehicle's bodies.
+"""Forces and torques of the track's vertical alignment on the vehicle's bodies.
 
 The bodies' coordinates follow the track (``docs/curving.md``): their first coordinate is the
 distance along the track, their third the height above the top of rail *normal to the local
 track*, and their angles are relative to the local track direction. A gradient and a vertical
 curve therefore appear as the inertial and gravity forces of a frame that pitches with the track
-(``docs/curving.md``, "Vertical alignment"), evaluated at every body's own distance ``s``:
+(``docs/curving.md``, "Vertical alignment"), evaluated at every body's own distance ``s`` and
+applied as an Exudyn load on each body, set at the start of every step
+(:meth:`railexu.model.assembly.VehicleModel.update_vertical_loads`):
 
 - gravity turned by the pitch ``theta(s) = atan(dz/ds)``: along the track ``-m g sin(theta)``,
   normal to it ``-m g cos(theta)`` (Exudyn already applies ``-m g``: the difference
@@ -23,12 +25,11 @@ above the rail in the vertical curve, < 0.4 % at R_v >= 250 m and 1 m height), `
 in the pitch torque, the chord effect a^2/(2 R_v) of a vehicle's ends on a vertical curve (the
 bodies' coordinates are each relative to the track under them; it changes no load of a
 vehicle on two bogies or two wheelsets), and the dependence of these forces on the coordinates
-in the Jacobian (a stiffness of m g / R_v, under 1e-4 of the suspension's).
+in the Jacobian (a stiffness of m g / R_v, under 1e-4 of the suspension's), and their change
+within a step (a body moves a few centimetres of a profile that changes over metres).
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -36,46 +37,37 @@ from railexu.track.vertical import VerticalAlignment
 
 
 class VerticalForces:
-    """The vertical alignment's generalized forces on the bodies at given node slots.
+    """The vertical alignment's loads on a vehicle's bodies and wheelsets.
 
     Args:
         vertical: the track's vertical profile.
-        slots: node slot (6 coordinates each) of every body in the contact object's coordinates.
-        reference_s_m: the first reference coordinate of each body (distance along the track of
-            its nominal position) [m].
-        mass_kg: masses [kg].
-        pitch_inertia_kg_m2: inertia about the lateral axis (a wheelset's spin inertia) [kg m^2].
+        mass_kg: the bodies' masses [kg].
+        pitch_inertia_kg_m2: their inertias about the lateral axis (a wheelset's spin inertia)
+            [kg m^2].
         gravity_m_per_s2: gravity [m/s^2].
-        frame_roll: callable returning the vehicle frame's cant roll [rad] now (None: level
-            frame, straight track).
     """
 
     def __init__(
         self,
         vertical: VerticalAlignment,
-        slots: np.ndarray,
-        reference_s_m: np.ndarray,
-        reference_angles: np.ndarray,
         mass_kg: np.ndarray,
         pitch_inertia_kg_m2: np.ndarray,
         gravity_m_per_s2: float,
-        frame_roll=None,
     ) -> None:
         self.v = vertical
-        self.o = 6 * np.asarray(slots, dtype=np.int64)
-        self.s_ref = np.asarray(reference_s_m, dtype=float)
-        self.a_ref = np.asarray(reference_angles, dtype=float).reshape(-1, 3)
         self.m = np.asarray(mass_kg, dtype=float)
         self.i_y = np.asarray(pitch_inertia_kg_m2, dtype=float)
         self.g = float(gravity_m_per_s2)
-        self.frame_roll = frame_roll
 
-    def add(self, q: np.ndarray, qt: np.ndarray, out: np.ndarray) -> None:
-        """Add the forces at the state ``(q, qt)`` (the object's coordinates) to ``out``."""
-        o = self.o
-        s = self.s_ref + q[o]
-        speed = qt[o]
+    def loads(
+        self, s_m: np.ndarray, speed_m_per_s: np.ndarray, frame_roll_rad: float = 0.0
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(forces, torques)``, each ``(n, 3)`` [N, N m] in the vehicle frame's axes, on the
+        bodies at distances ``s_m`` moving at ``speed_m_per_s`` along the track; the frame
+        rolled by ``frame_roll_rad`` (curved track, 0 on straight track)."""
         v = self.v
+        s = np.asarray(s_m, dtype=float)
+        speed = np.asarray(speed_m_per_s, dtype=float)
         grad = np.interp(s, v.grid_m, v.gradient)
         kappa = np.interp(s, v.grid_m, v.curvature_1_per_m, left=0.0, right=0.0)
         dkappa = np.interp(s, v.grid_m, v.curvature_slope, left=0.0, right=0.0)
@@ -84,15 +76,9 @@ class VerticalForces:
         v2 = speed * speed
         normal = -self.m * (self.g * (cos_t - 1.0) + v2 * kappa)
         torque = self.i_y * v2 * dkappa
-        phi = 0.0 if self.frame_roll is None else self.frame_roll()
-        cp, sp = math.cos(phi), math.sin(phi)
-        out[o] -= self.m * self.g * sin_t
-        out[o + 1] += sp * normal
-        out[o + 2] += cp * normal
-        # torque (0, T cos(phi), -T sin(phi)) in frame axes on the Tait-Bryan angles: G^T M
-        a0 = self.a_ref[:, 0] + q[o + 3]
-        a1 = self.a_ref[:, 1] + q[o + 4]
-        my, mz = torque * cp, -torque * sp
-        c0, s0, c1 = np.cos(a0), np.sin(a0), np.cos(a1)
-        out[o + 4] += c0 * my + s0 * mz
-        out[o + 5] += -s0 * c1 * my + c0 * c1 * mz
+        cp, sp = np.cos(frame_roll_rad), np.sin(frame_roll_rad)
+        # the normal (0, sin, cos) and the horizontal lateral axis (0, cos, -sin) of the track
+        # in the axes of the frame rolled by phi
+        forces = np.stack([-self.m * self.g * sin_t, sp * normal, cp * normal], axis=1)
+        torques = np.stack([np.zeros_like(torque), cp * torque, -sp * torque], axis=1)
+        return forces, torques
