@@ -78,6 +78,11 @@ START_MARGIN_M = 1.0
 #: A free run (traction and braking) ends when its speed falls below this [m/s]: the creepages
 #: are normalised by the speed, and a standing vehicle is outside the model.
 MIN_FREE_SPEED_M_PER_S = 0.5
+#: The vertical profile's loads are set again when the vehicle has run this far since they were
+#: last set [m] (railexu.model.vertical_forces): 1/20 of the 1 m over which the vertical
+#: curvature's jumps are rounded; the gradient changes by at most 0.05 m / R_v between updates
+#: (0.2 per mille at the smallest radius, 250 m).
+VERTICAL_UPDATE_M = 0.05
 #: Natural frequency of the vehicle frame's follower of the speed body in a free run on curved
 #: track [rad/s] (1 Hz, critically damped: a lag of a / w^2 = 2.5 cm at 1 m/s^2).
 FRAME_FOLLOW_RAD_PER_S = 2.0 * math.pi
@@ -618,11 +623,11 @@ class VehicleModel:
             )
             self.vertical_loads.append((name, force, torque))
 
-    def update_vertical_loads(self) -> None:
-        """Set the vertical profile's forces and torques from the current state (each body's
-        distance along the track and forward speed; the vehicle frame's cant roll on curved
-        track): constant over the step that follows, in which a body moves a few centimetres
-        of a profile that changes over metres."""
+    def update_vertical_loads(self, t: float = 0.0) -> None:
+        """Set the vertical profile's forces and torques from the current state at time ``t``
+        (each body's distance along the track and forward speed; the vehicle frame's cant roll
+        on curved track): constant until the vehicle has run :data:`VERTICAL_UPDATE_M` further
+        (:meth:`begin_step`), a few centimetres of a profile that changes over metres."""
         data = self.mbs.systemData
         q = data.GetODE2Coordinates()
         qt = data.GetODE2Coordinates_t()
@@ -636,6 +641,7 @@ class VehicleModel:
             u = (self.kernel.frame[0] - start) / step
             roll = float(np.interp(u, np.arange(tab.shape[0]), tab[:, TAB_FROLL]))
         forces, torques = self.vertical_forces.loads(s, v, roll)
+        self._vertical_next_s = t + VERTICAL_UPDATE_M / max(float(np.max(np.abs(v))), 0.5)
         for k, (_, force, torque) in enumerate(self.vertical_loads):
             self.mbs.SetLoadParameter(force, "loadVector", forces[k].tolist())
             self.mbs.SetLoadParameter(torque, "loadVector", torques[k].tolist())
@@ -958,8 +964,8 @@ class VehicleModel:
         must reach (prescribed motion: the constraint's offset, the creepages' normalising
         speed), or (free motion) the torques, the normalising speed and the frame's motion.
         Returns False when a free run has covered ``distance_m`` or stopped."""
-        if self.vertical_forces is not None:
-            self.update_vertical_loads()
+        if self.vertical_forces is not None and t_end - h >= self._vertical_next_s:
+            self.update_vertical_loads(t_end - h)
         if self.traction is None:
             v_next = self.speed_at(t_end)
             self.mbs.SetObjectParameter(self.speed_constraint, "offset", v_next)
