@@ -279,6 +279,14 @@ def test_wheel_loads_in_a_vertical_curve(crest, monkeypatch):
     expected = mass * (g * np.cos(theta) + sign * speed**2 / radius)
     assert np.median(q[inside] / expected[inside]) == pytest.approx(1.0, abs=0.01)
     assert np.allclose(ts["track_vertical_curvature_1_per_m"][inside], sign / radius, rtol=0.01)
+    # the run's figure (railexu run and railexu plot): the curve shaded where the leading
+    # wheelset was in it (to 2.5 m: the curvature's 1 m rounding at the curve's ends)
+    from railexu.report.track_figures import vertical_run_figure
+
+    ax = vertical_run_figure(ts, "test").axes[0]
+    (span,) = ax.patches
+    assert span.get_x() == pytest.approx(curve.start_m, abs=2.5)
+    assert span.get_x() + span.get_width() == pytest.approx(curve.end_m, abs=2.5)
 
 
 def test_level_track_adds_nothing():

@@ -124,11 +124,8 @@ def _figure_jobs(
     if alignment is not None and not alignment.is_straight:
         builders["track"] = partial(_track_figure, alignment, result.track.name)
         builders["curving"] = partial(_curving_figure, ts, alignment, title)
-    vertical = getattr(result.track, "vertical", None)
-    if vertical is not None and not vertical.is_level:
-        s = ts["ws1_s_m"]
-        s_range = (float(min(s)) - 20.0, float(max(s)) + 20.0)
-        builders["track_vertical"] = partial(_vertical_figure, vertical, result.track.name, s_range)
+    if "track_elevation_m" in ts.columns:
+        builders["track_vertical"] = partial(_vertical_figure, ts, result.track.name)
     jobs = []
     for name, build in builders.items():
         for fmt in formats:
@@ -164,10 +161,10 @@ def _track_figure(alignment, track_name: str):
     return track_figure(alignment, track_name)
 
 
-def _vertical_figure(vertical, track_name: str, s_range: tuple[float, float]):
-    from railexu.report.track_figures import vertical_profile_figure
+def _vertical_figure(ts, track_name: str):
+    from railexu.report.track_figures import vertical_run_figure
 
-    return vertical_profile_figure(vertical, track_name, s_range)
+    return vertical_run_figure(ts, track_name)
 
 
 def _curving_figure(ts, alignment, title: str):
