@@ -70,7 +70,7 @@ def vertical_profile_figure(
     spans = [(c.start_m, c.end_m) for c in vertical.curves if c.end_m >= lo and c.start_m <= hi]
     return _profile_figure(
         s, vertical.elevation(s), 1e3 * vertical.gradient_at(s), vertical.curvature(s), spans,
-        f"{title}: vertical profile ({vertical.kind}".lstrip(": "),
+        f"{title}: vertical profile, {vertical.kind}".lstrip(": "),
     )  # fmt: skip
 
 
@@ -93,7 +93,7 @@ def vertical_run_figure(ts, title: str = "") -> Figure:
     head = f"{title}: {head}" if title else head
     return _profile_figure(
         s, np.asarray(ts["track_elevation_m"], dtype=float),
-        np.asarray(ts["track_gradient_per_mille"], dtype=float), kappa, spans, f"{head} (",
+        np.asarray(ts["track_gradient_per_mille"], dtype=float), kappa, spans, head,
     )  # fmt: skip
 
 
@@ -118,5 +118,5 @@ def _profile_figure(s, elevation_m, gradient_per_mille, curvature_1_per_m, spans
         ax.grid(True, alpha=0.4)
         axes.append(ax)
     axes[-1].set_xlabel("distance along the track [m]")
-    fig.suptitle(f"{head}; shaded: vertical curves)")
+    fig.suptitle(f"{head} (shaded: vertical curves)")
     return fig
