@@ -333,3 +333,33 @@ def test_run_beyond_the_vertical_profile_is_refused():
     late = dataclasses.replace(track, start_m=-5.0)
     with pytest.raises(InputError, match="outside the track's vertical profile"):
         check_run_within_track(veh, late, RunSettings(speed_m_per_s=10.0, distance_m=10.0))
+
+
+def test_gradient_in_a_canted_curve(monkeypatch):
+    """The loaded Hbbins at 30 m/s in R 600 m with 100 mm cant (tracks/curve_r600.yaml, started
+    inside the curve) on 30 per mille against the same level run: the wheel loads normal to the
+    track scale by cos(theta) = 0.99955 and sum Y stays (the gravity component in the canted
+    track plane scales by cos(theta) too); 0.2 % for Q: the neglected terms of order theta^2
+    (4.5e-4) and the medians' scatter; 1 % for sum Y."""
+    from railexu.track.track import load_track
+    from railexu.track.vertical import constant_gradient
+
+    monkeypatch.setenv("RAILEXU_THREADS", "1")
+    veh = load_vehicle(find_input("vehicle", "hbbins_loaded"))
+    base = dataclasses.replace(load_track("curve_r600"), start_m=200.0)
+    sums = {}
+    for label, vertical in (("level", None), ("gradient", constant_gradient(0.03))):
+        track = dataclasses.replace(base, vertical=vertical)
+        settings = RunSettings(speed_m_per_s=30.0, distance_m=60.0, output_interval_s=0.01)
+        result = simulate(veh, track, settings)
+        assert result.status["state"] == "completed", result.status
+        ts = result.timeseries
+        t = np.asarray(ts["time_s"])
+        n = len(veh.wheelsets)
+        sides = [(i, sd) for i in range(1, n + 1) for sd in ("left", "right")]
+        q = sum(np.asarray(ts[f"ws{i}_{sd}_Q_N"]) for i, sd in sides)
+        y = sum(np.asarray(ts[f"ws{i}_{sd}_Y_N"]) for i, sd in sides)
+        sums[label] = (np.median(q[t > 1.0]), np.median(y[t > 1.0]))
+    ratio_q = sums["gradient"][0] / sums["level"][0]
+    assert ratio_q == pytest.approx(math.cos(math.atan(0.03)), abs=0.002)
+    assert sums["gradient"][1] == pytest.approx(sums["level"][1], rel=0.01)
