@@ -208,7 +208,11 @@ def vertical_from_stations(
         dg = g[i] - g[i - 1]
         half[i] = 0.5 * r[i] * abs(dg)
         if dg != 0.0:
-            curves.append(VerticalCurve(p[i] - half[i], p[i] + half[i], math.copysign(r[i], dg)))
+            curves.append(
+                VerticalCurve(
+                    float(p[i] - half[i]), float(p[i] + half[i]), math.copysign(float(r[i]), dg)
+                )
+            )
     for i in range(p.size - 1):
         room = p[i + 1] - p[i]
         if half[i] + half[i + 1] > room + 1e-9:
