@@ -363,3 +363,18 @@ def test_gradient_in_a_canted_curve(monkeypatch):
     ratio_q = sums["gradient"][0] / sums["level"][0]
     assert ratio_q == pytest.approx(math.cos(math.atan(0.03)), abs=0.002)
     assert sums["gradient"][1] == pytest.approx(sums["level"][1], rel=0.01)
+
+
+def test_measured_gradient_column(tmp_path):
+    """A measured gradient (per mille) is integrated to the elevation: 0 -> 20 per mille linearly
+    over 100 m is a sag of R_v = 100 m / 0.02 = 5000 m rising 1 m (hand calculation); its
+    curvature 1/5000 1/m to 2 % in the middle, the elevation to 1 mm."""
+    d = np.arange(0.0, 101.0, 2.0)
+    path = tmp_path / "g.csv"
+    path.write_text("distance_m,gradient_per_mille\n" + "".join(f"{a},{0.2 * a}\n" for a in d))
+    v = _track({"type": "measured", "file": str(path), "column": "gradient"}).vertical
+    assert v.elevation(100.0) == pytest.approx(1.0, abs=1e-3)
+    assert v.curvature(50.0) == pytest.approx(1.0 / 5000.0, rel=0.02)
+    path.write_text("0,0\n10,150\n")
+    with pytest.raises(InputError, match="150.0 per mille"):
+        _track({"type": "measured", "file": str(path), "column": "gradient"})

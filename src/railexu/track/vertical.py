@@ -13,6 +13,7 @@ measured one::
         - {position: 900 m, elevation: -1 m}
 
     vertical: {type: measured, file: profile.csv}   # distance [m], elevation [m]
+    vertical: {type: measured, file: g.csv, column: gradient}   # distance [m], gradient [per mille]
 
 Conventions (``docs/curving.md``, "Vertical alignment"): distance ``s`` along the track as in
 :mod:`railexu.track.alignment`; elevation ``z(s)`` [m], gradient ``g = dz/ds`` (positive rising
@@ -67,7 +68,7 @@ VERTICAL_KEYS = {
     "level": ("type",),
     "gradient": ("type", "gradient", "rack"),
     "stations": ("type", "stations", "rack"),
-    "measured": ("type", "file", "rack"),
+    "measured": ("type", "file", "column", "rack"),
 }
 STATION_KEYS = ("position", "elevation", "radius")
 
@@ -245,18 +246,32 @@ def vertical_from_samples(
     distance_m, elevation_m, smoothing_m: float = MEASURED_SMOOTHING_M, source: str = ""
 ) -> VerticalAlignment:
     """A measured profile: elevation samples (linear between them), resampled every
-    :data:`STEP_M`, smoothed by a Gaussian of ``smoothing_m`` (about the straight line
-    through the record's ends) and differentiated."""
+    :data:`STEP_M`, smoothed by a Gaussian of ``smoothing_m`` and differentiated; beyond its
+    ends the record is continued point-symmetrically about its end points while it is
+    smoothed, so that the end elevations and a constant gradient are kept."""
     d = np.asarray(distance_m, float)
     s = np.arange(d[0], d[-1] + 0.5 * STEP_M, STEP_M)
     z = np.interp(s, d, np.asarray(elevation_m, float))
-    # smoothed about the line through the ends, so that a constant gradient stays exact up to
-    # the record's ends (the Gaussian's "nearest" continuation would bend it there)
-    line = z[0] + (z[-1] - z[0]) * (s - s[0]) / max(s[-1] - s[0], STEP_M)
-    zs = line + _rounded(z - line, smoothing_m) if s.size > 2 else z
+    zs = _smoothed_point_symmetric(z, smoothing_m)
     g = np.gradient(zs, STEP_M)
     kappa = np.gradient(g, STEP_M) / (1.0 + g * g) ** 1.5
     return VerticalAlignment(float(s[0]), STEP_M, zs, g, kappa, "measured", [], source)
+
+
+def _smoothed_point_symmetric(values: np.ndarray, sigma_m: float) -> np.ndarray:
+    """``values`` (samples every :data:`STEP_M`) smoothed by a Gaussian of ``sigma_m``, the
+    record continued beyond each end by its point reflection about the end sample (the mean of
+    every symmetric pair is the end value: ends and straight lines are kept)."""
+    from scipy.ndimage import gaussian_filter1d
+
+    n = values.size
+    if sigma_m <= 0.0 or n < 3:
+        return values
+    pad = min(n - 1, int(math.ceil(4.0 * sigma_m / STEP_M)))
+    head = 2.0 * values[0] - values[pad:0:-1]
+    tail = 2.0 * values[-1] - values[-2 : -pad - 2 : -1]
+    full = np.concatenate([head, values, tail])
+    return gaussian_filter1d(full, sigma_m / STEP_M, mode="nearest")[pad : pad + n]
 
 
 def _rounded(values: np.ndarray, sigma_m: float) -> np.ndarray:
@@ -397,12 +412,20 @@ def _measured(top: Section, path, steepest: float, rack: bool, source: str) -> V
         file = Path(path) / file
     if not file.is_file():
         top.fail(f"vertical profile file {str(file)!r} not found", key="file")
+    column = top.string("column", default="elevation", choices=("elevation", "gradient"))
     try:
         d, z = read_measured_profile(file)
     except InputError as exc:  # the track file's line too, then the data file's
         top.fail(str(exc), key="file")
     except (OSError, UnicodeDecodeError) as exc:
         top.fail(f"cannot read {str(file)!r}: {exc}", key="file")
+    if column == "gradient":  # per mille: integrated (trapezoids) from elevation 0
+        g = 1e-3 * z
+        if np.max(np.abs(g)) > steepest:
+            top.fail(f"{file.name}: a gradient of {1e3 * np.max(np.abs(g)):.1f} per mille is "
+                     f"steeper than {1e3 * steepest:g} per mille" + _rack_hint(rack),
+                     key="file")  # fmt: skip
+        z = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(d))])
     profile = vertical_from_samples(d, z, source=source)
     steep = float(np.max(np.abs(profile.gradient)))
     if steep > steepest:

@@ -37,8 +37,11 @@ VERTICAL = {
     "measured": Schema(
         "measured",
         (
-            Field("file", "CSV of distance (m) and elevation (m) of the top of rail, relative "
-                  "to this file", "text"),
+            Field("file", "CSV of distance (m) and elevation (m) of the top of rail, or of "
+                  "distance (m) and gradient (per mille), relative to this file", "text"),
+            Field("column", "what the file's second column is: elevation (m) or gradient "
+                  "(per mille, integrated from elevation 0)", "text", default="elevation",
+                  choices=("elevation", "gradient")),
             _RACK,
         ),
         "A surveyed profile, smoothed over 5 m (docs/curving.md).",
