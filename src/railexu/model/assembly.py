@@ -600,7 +600,8 @@ class VehicleModel:
     def _add_vertical_loads(self) -> None:
         """On a track with a vertical profile, a force and a torque on every body and wheelset
         for its gradient and vertical curvature (:mod:`railexu.model.vertical_forces`), set at
-        the start of every step (:meth:`update_vertical_loads`)."""
+        the start and again every :data:`VERTICAL_UPDATE_M` of run (:meth:`update_vertical_loads`
+        from :meth:`begin_step`)."""
         from exudyn.itemInterface import LoadForceVector, LoadTorqueVector, MarkerBodyRigid
 
         self.vertical_forces: VerticalForces | None = None
@@ -641,7 +642,7 @@ class VehicleModel:
             u = (self.kernel.frame[0] - start) / step
             roll = float(np.interp(u, np.arange(tab.shape[0]), tab[:, TAB_FROLL]))
         forces, torques = self.vertical_forces.loads(s, v, roll)
-        self._vertical_next_s = t + VERTICAL_UPDATE_M / max(float(np.max(np.abs(v))), 0.5)
+        self._vertical_next_time_s = t + VERTICAL_UPDATE_M / max(float(np.max(np.abs(v))), 0.5)
         for k, (_, force, torque) in enumerate(self.vertical_loads):
             self.mbs.SetLoadParameter(force, "loadVector", forces[k].tolist())
             self.mbs.SetLoadParameter(torque, "loadVector", torques[k].tolist())
@@ -964,7 +965,7 @@ class VehicleModel:
         must reach (prescribed motion: the constraint's offset, the creepages' normalising
         speed), or (free motion) the torques, the normalising speed and the frame's motion.
         Returns False when a free run has covered ``distance_m`` or stopped."""
-        if self.vertical_forces is not None and t_end - h >= self._vertical_next_s:
+        if self.vertical_forces is not None and t_end - h >= self._vertical_next_time_s:
             self.update_vertical_loads(t_end - h)
         if self.traction is None:
             v_next = self.speed_at(t_end)
