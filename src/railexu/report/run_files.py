@@ -124,6 +124,8 @@ def _figure_jobs(
     if alignment is not None and not alignment.is_straight:
         builders["track"] = partial(_track_figure, alignment, result.track.name)
         builders["curving"] = partial(_curving_figure, ts, alignment, title)
+    if "track_elevation_m" in ts.columns:
+        builders["track_vertical"] = partial(_vertical_figure, ts, result.track.name)
     jobs = []
     for name, build in builders.items():
         for fmt in formats:
@@ -157,6 +159,12 @@ def _track_figure(alignment, track_name: str):
     from railexu.report.track_figures import track_figure
 
     return track_figure(alignment, track_name)
+
+
+def _vertical_figure(ts, track_name: str):
+    from railexu.report.track_figures import vertical_run_figure
+
+    return vertical_run_figure(ts, track_name)
 
 
 def _curving_figure(ts, alignment, title: str):

@@ -229,6 +229,7 @@ def check_run_within_track(vehicle, track, settings) -> None:
     Raises:
         InputError: naming ``start`` or ``distance``, the end of the geometry and what fits.
     """
+    check_run_within_vertical(vehicle, track, settings)
     alignment = getattr(track, "alignment", None)
     if alignment is None or alignment.is_straight:
         return
@@ -251,3 +252,36 @@ def check_run_within_track(vehicle, track, settings) -> None:
             f"{fits_m:.4g} m fit (or lengthen the geometry)",
             key="run.distance",
         )
+
+
+def check_run_within_vertical(vehicle, track, settings) -> None:
+    """Refuse a run whose wheelsets would leave a vertical profile given by stations or
+    measured (``docs/curving.md``, "Vertical alignment"): before its first and beyond its last
+    station it could only continue on the end gradient, a profile the file does not describe.
+    A constant gradient has no ends.
+
+    Raises:
+        InputError: naming ``start`` or ``distance``, the profile's ends and what fits.
+    """
+    vertical = getattr(track, "vertical", None)
+    if vertical is None or vertical.kind not in ("stations", "measured"):
+        return
+    xs = [w.position_x_m for w in vehicle.wheelsets]
+    wheelbase_m = max(xs) - min(xs)
+    rear_m = float(track.start_m) + START_CLEARANCE_M
+    first_m, end_m = float(vertical.grid_m[0]), float(vertical.end_m)
+    needed_m = rear_m + wheelbase_m + float(settings.distance_m)
+    if rear_m < first_m - 1e-9 or rear_m + wheelbase_m >= end_m:
+        raise InputError(
+            f"the vehicle's rearmost wheelset at {rear_m:g} m (start + {START_CLEARANCE_M:g} m) "
+            f"is outside the track's vertical profile, {first_m:g} m to {end_m:g} m",
+            source=str(track.source or "track"), key="start",
+        )  # fmt: skip
+    if needed_m > end_m + 1e-9:
+        fits_m = end_m - rear_m - wheelbase_m
+        raise InputError(
+            f"{float(settings.distance_m):g} m from {float(track.start_m):g} m takes the leading "
+            f"wheelset to {needed_m:g} m, beyond the end of the track's vertical profile at "
+            f"{end_m:g} m; at most {fits_m:.4g} m fit (or add a station)",
+            key="run.distance",
+        )  # fmt: skip

@@ -37,6 +37,7 @@ from railexu.operation.run_settings import RunSettings
 from railexu.simulation.curving import track_columns
 from railexu.simulation.longitudinal import LongitudinalRecord
 from railexu.simulation.timeseries import TimeSeries
+from railexu.track.vertical import vertical_columns
 from railexu.vehicle.vehicle import Vehicle
 
 #: Per contact point in the time series (``--contact-outputs``): ``ws{i}_{side}_p{k}_<field>``
@@ -373,6 +374,8 @@ class Recorder:
             track_columns(self.model.alignment, cols["ws1_s_m"], speed,
                           self.vehicle.gravity_m_per_s2)
         )  # fmt: skip
+        if getattr(self.model, "vertical", None) is not None:
+            cols.update(vertical_columns(self.model.vertical, cols["ws1_s_m"]))
         return TimeSeries(cols)
 
     @staticmethod

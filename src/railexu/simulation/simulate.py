@@ -295,7 +295,7 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
             return record(t)
         return True
 
-    if settings.speed_varies:
+    if settings.speed_varies or getattr(model, "vertical_forces", None) is not None:
         mbs.SetPreStepUserFunction(pre_step)
     mbs.SetPostStepUserFunction(post_step)
     solver_type = (

@@ -40,6 +40,7 @@ from railexu.track.irregularities import (
     synthesize_irregularities,
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
+from railexu.track.vertical import VerticalAlignment, vertical_from_dict
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
 
@@ -76,6 +77,8 @@ class Track:
     alignment: Alignment | None = field(default=None, compare=False)
     # elastic track (railexu.track.elastic); None: rigid
     elastic: ElasticTrack | None = None
+    # vertical alignment (railexu.track.vertical); None: level track
+    vertical: VerticalAlignment | None = field(default=None, compare=False)
     # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
     start_m: float = 0.0
 
@@ -146,6 +149,7 @@ def track_from_dict(
     alignment = alignment_from_dict(top.data.get("geometry"), source, top.lines, base_dir)
     geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
     elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
+    vertical = vertical_from_dict(top.data.get("vertical"), source, top.lines, base_dir)
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -165,6 +169,7 @@ def track_from_dict(
         source=source,
         alignment=alignment,
         elastic=elastic,
+        vertical=vertical,
         start_m=TRACK.read(top, "start"),
     )
 
