@@ -137,7 +137,7 @@ def test_transfer_wing_rail_to_nose(wheel):
         return h0 - h1
 
     s_star = brentq(diff, 0.10, 0.20, xtol=1e-5)
-    s_grid = s_star + np.linspace(-0.012, 0.012, 9)
+    s_grid = s_star + np.linspace(-0.012, 0.012, 7)
     shares, heights, rigid = [], [], []
     for s in s_grid:
         rigid.append(min(_touch_heights(rail, wheel, s, y, settings)))

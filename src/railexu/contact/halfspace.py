@@ -55,7 +55,7 @@ class HalfSpace:
 
 
 def solve_normal(
-    h_m: np.ndarray, dx_m: float, dy_m: float, e_star_pa: float, *, tol: float = 1.0e-10,
+    h_m: np.ndarray, dx_m: float, dy_m: float, e_star_pa: float, *, tol: float = 1.0e-8,
     max_iter: int = 2000,
 ) -> np.ndarray:  # fmt: skip
     """Pressure [Pa] on the grid for the interpenetration ``h`` [m] (positive = overlap).
