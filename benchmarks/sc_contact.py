@@ -6,8 +6,10 @@ grid, the fine grid per patch and the half-space normal problem of each patch) f
 - on one rail (CONTACT's ``wing_rail.slcs``, one patch),
 - on two rails of one side at once (``uk_interrupt_v2.slcs``: nose and wing rail, two patches),
 
-and the same split into search (overlap grids) and normal problem. This is the quasi-static
-validation tool, not the dynamics' kernel (which does not read variable profiles yet).
+and the same split into search (overlap grids) and normal problem (the quasi-static validation
+tool); then the dynamics' compiled kernel per wheelset evaluation on the plain rail and on the
+two-rail effective section of the same crossing (:mod:`railexu.contact.variable_tables`): the
+search on several rails against one.
 
 Run: ``python benchmarks/sc_contact.py`` (timings vary by tens of percent between runs).
 """
@@ -17,9 +19,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
 
+from railexu.contact import kernel as K
+from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.placement import symmetric_wheelset
 from railexu.contact.variable_rail import ContactSettings, WheelSection, _overlap, patches_at
+from railexu.contact.variable_tables import section_rail_arrays
 from railexu.profiles.variable import VariableProfile, read_slcs
 from railexu.profiles.variable.slcs import _read_profile_points
 
@@ -33,6 +40,45 @@ def _best(f, repeat: int = 5) -> float:
         f()
         best = min(best, time.perf_counter() - t)
     return best
+
+
+@numba.njit(cache=True)
+def _loop(n, wl, il, rl, ril, wr, ir, rr, rir, ht, kt, params, state, rails, points, force):
+    acc = 0.0
+    for _ in range(n):
+        K.wheelset_contact(wl, il, rl, ril, wr, ir, rr, rir, ht, kt, params, state, rails,
+                           points, force)  # fmt: skip
+        acc += force[2]
+    return acc
+
+
+def kernel_costs(n: int = 20_000) -> None:
+    """The compiled kernel per wheelset: plain rail both sides, and the left rail replaced by
+    the two-rail effective section of uk_interrupt_v2 at s = 160 mm (two contact points)."""
+    geo = symmetric_wheelset(
+        "MBench_S1002", "MBench_UIC60", nominal_radius_m=0.46, inclination="1:40",
+        gauge_m=1.435, flange_back_distance_m=1.36,
+    )  # fmt: skip
+    plain = WheelsetContactModel(geo, speed_m_per_s=2.0)
+    crossing = WheelsetContactModel(geo, speed_m_per_s=2.0)
+    rail = VariableProfile(read_slcs(DATA / "uk_interrupt_v2.slcs", scale_to_mm=1000.0))
+    crossing.rtab_l, crossing.rinfo_l = section_rail_arrays(
+        rail, 0.16, geo.left, rail_origin_m=(0.75, 0.0), x_max_m=0.06
+    )
+    print("compiled kernel, S1002 on Manchester UIC60 / crossing section, V = 2 m/s:")
+    for label, m, lateral, height in (
+        ("plain rail both sides", plain, 0.0035, 0.45997),
+        ("left wheel on nose + wing rail (2 points)", crossing, 0.0035, 0.4609236),
+    ):
+        state = np.array([0.0, lateral, height, 0, 0, 2.0, 0, 0, 0, 2.0 / 0.46, 0])
+        args = (m.wtab_l, m.winfo_l, m.rtab_l, m.rinfo_l, m.wtab_r, m.winfo_r, m.rtab_r,
+                m.rinfo_r, m.htab, m.ktab, m.params, state, np.zeros(8),
+                np.zeros((2, K.MAX_POINTS, K.N_POINT_FIELDS)), np.zeros(6))  # fmt: skip
+        _loop(10, *args)
+        n_points = int(np.sum((args[13][0, :, K.PF_ACTIVE] > 0) & (args[13][0, :, K.PF_N] > 0)))
+        best = _best(lambda: _loop(n, *args)) / n  # noqa: B023
+        print(f"  {label:<44s} {best * 1e6:6.2f} us per wheelset ({n_points} loaded "
+              "point(s) on the left wheel)")  # fmt: skip
 
 
 def main() -> None:
@@ -60,3 +106,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    kernel_costs()
