@@ -129,3 +129,33 @@ def test_kernel_two_rails_at_once(geometry):
         assert moment[k] / force[k] == pytest.approx(theirs[k]["y_m"], abs=5e-4)
     share = force[0] / force.sum()
     assert share == pytest.approx(theirs[0]["fn_n"] / sum(t["fn_n"] for t in theirs), abs=0.10)
+
+
+def test_uk_crossing_sweep_along_the_nose_start(geometry):
+    """mbench_intrup: the S1002 wheel at a prescribed position (y 0.78 mm, z -0.87 mm) moved
+    from s = 110 to 130 mm along the UK crossing, across the slice where the nose begins
+    (118.94 mm): at every 7th of CONTACT's 43 positions the kernel on the effective section and
+    the quasi-static half-space solution give CONTACT's normal force on the wing rail within
+    2.5 % and 1.5 % (Hertz against a nearly elliptical non-Hertzian patch; the half-space solution
+    differs by its grid, and by 1.2 % at s = 130 mm where CONTACT's force rises 2.6 % over the last
+    3 mm), at its lateral position within 0.5 mm, and no spurious load on the nose."""
+    from railexu.contact.variable_rail import WheelSection, patches_at
+
+    cases = read_ref_out(DATA / "examples_s+c" / "mbench_intrup.ref_out")
+    assert len(cases) == 43
+    rail = VariableProfile(read_slcs(DATA / "profiles" / "uk_interrupt_v2.slcs", scale_to_mm=1e3))
+    pts = _read_profile_points(DATA / "profiles" / "x", 0, "MBench_S1002_v3.prw", 1.0)[::-1]
+    wheel = WheelSection(np.ascontiguousarray(pts), 0.46, 0.0)
+    model = WheelsetContactModel(geometry)
+    for ref in cases[::7] + [cases[-1]]:
+        (theirs,) = ref["patches"]
+        model.rtab_l, model.rinfo_l = section_rail_arrays(
+            rail, ref["s_m"], geometry.left, rail_origin_m=RAIL_ORIGIN, x_max_m=0.06
+        )
+        loaded = [p for p in _points(model, ref["y_m"], 0.46 - ref["z_m"]) if p[K.PF_N] > 50.0]
+        assert len(loaded) == 1
+        assert loaded[0][K.PF_N] == pytest.approx(theirs["fn_n"], rel=0.025)
+        assert loaded[0][K.PF_YRAIL] - RAIL_ORIGIN[0] == pytest.approx(theirs["y_m"], abs=5e-4)
+        (patch,) = patches_at(rail, wheel, ref["s_m"], ref["y_m"], ref["z_m"])
+        assert patch.normal_force_n == pytest.approx(theirs["fn_n"], rel=0.015)
+        assert patch.y_m == pytest.approx(theirs["y_m"], abs=5e-4)
