@@ -53,9 +53,13 @@ def section_rail_arrays(
     curvature_smoothing_m: float = 5.0e-4,
     x_max_m: float = 0.0,
     x_step_m: float = 5.0e-4,
+    grid: tuple[float, int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Kernel table ``[z, z', z'', z''_smooth, bounds...]`` and info ``(y0, step, n)`` of the
     variable rail at ``s`` [m], placed like ``pair``'s rail (track axes, z up).
+
+    ``grid = (y0, n)`` fixes the table's rows (stations blended in the dynamics share one grid);
+    default: the curves' extent. Beyond a curve's end the table continues flat.
 
     Raises:
         ComputationError: a curve that is no longer a graph after the cant's rotation.
@@ -65,9 +69,12 @@ def section_rail_arrays(
     wheel = pair.wheel
     xs = np.arange(-x_max_m, x_max_m + 0.5 * x_step_m, x_step_m) if x_max_m > 0 else np.zeros(1)
     sections = [_placed_curves(rail, s_m + x, pair.rail_cant_rad, origin) for x in xs]
-    y0 = min(c[0][0] for cs in sections for c in cs)
-    y1 = max(c[0][-1] for cs in sections for c in cs)
-    n = int(np.floor((y1 - y0) / step)) + 1
+    if grid is None:
+        y0 = min(c[0][0] for cs in sections for c in cs)
+        y1 = max(c[0][-1] for cs in sections for c in cs)
+        n = int(np.floor((y1 - y0) / step)) + 1
+    else:
+        y0, n = float(grid[0]), int(grid[1])
     grid = y0 + step * np.arange(n)
     z = np.full(n, -np.inf)
     dz = np.zeros(n)
@@ -80,7 +87,9 @@ def section_rail_arrays(
         higher = zx > z
         z[higher], dz[higher], d2z[higher] = zx[higher], dzx[higher], d2zx[higher]
     gap = ~np.isfinite(z)
-    if np.any(gap):  # straight bridges between separate curves
+    if np.all(gap):
+        raise ComputationError(f"{rail.slices.source}: no rail at s = {s_m:.4f} m on the grid")
+    if np.any(gap):  # straight bridges between separate curves, flat beyond the ends
         z[gap] = np.interp(grid[gap], grid[~gap], z[~gap])
         dz[gap] = np.gradient(z, step)[gap]
         d2z[gap] = 0.0
@@ -120,3 +129,35 @@ def _top_surface(curves, grid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         dz[rows] = spline(grid[rows], 1)
         d2z[rows] = spline(grid[rows], 2)
     return z, dz, d2z
+
+
+def station_tables(
+    rail: VariableProfile,
+    pair: WheelRailPair,
+    stations_m: np.ndarray,
+    *,
+    rail_origin_m: tuple[float, float] | None = None,
+    x_max_m: float = 0.06,
+    curvature_smoothing_m: float = 5.0e-4,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel tables ``(n_stations, n, columns)`` of the variable rail at the stations ``s``
+    [m] (the profile's own ``s``) on one common grid, and its info ``(y0, step, n)``.
+
+    Blending two neighbouring tables linearly gives the table of the blended surface; its
+    curvature-bound columns stay valid bounds (a bound of a convex combination is at most the
+    combination of the bounds), so the kernel's search stays exact on the blend.
+    """
+    origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
+    step = pair.rail_table.step_m
+    lo, hi = np.inf, -np.inf
+    for s in stations_m:
+        for x in (-x_max_m, 0.0, x_max_m):
+            for y, _ in _placed_curves(rail, s + x, pair.rail_cant_rad, origin):
+                lo, hi = min(lo, y[0]), max(hi, y[-1])
+    n = int(np.floor((hi - lo) / step)) + 1
+    tabs = [
+        section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
+                            curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n))[0]
+        for s in stations_m
+    ]  # fmt: skip
+    return np.ascontiguousarray(np.stack(tabs)), np.array([lo, step, float(n)])

@@ -40,6 +40,7 @@ from railexu.track.irregularities import (
     synthesize_irregularities,
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
+from railexu.track.variable_rails import VariableRails
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
 
@@ -78,6 +79,8 @@ class Track:
     elastic: ElasticTrack | None = None
     # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
     start_m: float = 0.0
+    # switches and crossings: rails that vary along a zone (railexu.track.variable_rails)
+    variable_rails: VariableRails | None = field(default=None, compare=False)
 
     @property
     def inclination_rad(self) -> float:
