@@ -190,3 +190,19 @@ def test_yaml_feature_count_mismatch_refused(tmp_path):
     with pytest.raises(ProfileError, match="expected 3") as err:
         read_yaml_slices(path)
     assert "line 5" in str(err.value) and "slices.1" in str(err.value)
+
+
+def test_variable_rails_refuse_bad_zones():
+    """A zone needs a profile on at least one side and sensible station spacing."""
+    from railexu.errors import InputError
+    from railexu.track.variable_rails import VariableRails
+
+    vp = VariableProfile(read_slcs(DATA / "cross_nose.slcs"))
+    with pytest.raises(InputError, match="left or right"):
+        VariableRails()
+    with pytest.raises(InputError, match="station_step_m"):
+        VariableRails(left=vp, station_step_m=0.0)
+    with pytest.raises(InputError, match="finite"):
+        VariableRails(left=vp, start_m=float("nan"))
+    zone = VariableRails(right=vp, start_m=10.0)
+    assert zone.zone_m() == pytest.approx((9.9, 10.1))
