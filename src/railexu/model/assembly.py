@@ -52,6 +52,7 @@ from railexu.model.forces import (
     generalized_forces_threaded,
     jacobian,
 )
+from railexu.model.sc_tables import sc_kernel_fields
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
 from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
 from railexu.model.vertical_forces import VerticalForces
@@ -256,6 +257,9 @@ class VehicleModel:
         for s, (tab, info) in enumerate(rails):
             self.rtab[s, : tab.shape[0]] = tab
             self.rinfo[s] = info
+        self.sc_fields = sc_kernel_fields(
+            getattr(self.track, "variable_rails", None), self.geometries[0], width
+        )
         self.htab = hertz_table()
         self.ktab = kalker_table_for_poisson(self.contact_params.poisson)
 
@@ -858,7 +862,7 @@ class VehicleModel:
             ws_local=np.zeros((len(wheelset_names), WL_SIZE)),
             rail_index=rail_index,
             rail_preload=np.ascontiguousarray(self.statics.wheel_loads_N, dtype=float),
-            se_int=se_int, se_real=se_real, se_table=se_table,
+            se_int=se_int, se_real=se_real, se_table=se_table, **self.sc_fields,
         )  # fmt: skip
 
     def set_time(self, t: float) -> None:

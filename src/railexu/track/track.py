@@ -41,6 +41,7 @@ from railexu.track.irregularities import (
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
 from railexu.track.vertical import VerticalAlignment, vertical_from_dict
+from railexu.track.variable_rails import VariableRails
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
 
@@ -81,6 +82,8 @@ class Track:
     vertical: VerticalAlignment | None = field(default=None, compare=False)
     # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
     start_m: float = 0.0
+    # switches and crossings: rails that vary along a zone (railexu.track.variable_rails)
+    variable_rails: VariableRails | None = field(default=None, compare=False)
 
     @property
     def inclination_rad(self) -> float:
