@@ -40,8 +40,8 @@ from railexu.track.irregularities import (
     synthesize_irregularities,
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
-from railexu.track.vertical import VerticalAlignment, vertical_from_dict
 from railexu.track.variable_rails import VariableRails
+from railexu.track.vertical import VerticalAlignment, vertical_from_dict
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
 
