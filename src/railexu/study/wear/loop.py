@@ -9,12 +9,13 @@ One step:
    cases run on local worker processes, each case's result is kept in
    ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
-3. the mileage step: rule ``max_depth`` (default): the largest depth of any wheel after the
-   step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth per km)``;
-   rule ``fixed``: ``dL = step_km``; both end at the requested mileage;
-4. the depth times ``dL`` is smoothed (:func:`~.profiles.smooth_depth`, area kept) and taken
-   off each wheel's profile; the profiles are written to ``step_NNN/profiles/`` and read back,
-   so that the contact tables of the next step are built from those files;
+3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
+4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
+   wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
+   per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
+   times ``dL`` is taken off each wheel's profile; the profiles are written to
+   ``step_NNN/profiles/`` and read back, so that the contact tables of the next step are built
+   from those files;
 5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
    old and the new profile against the integral of the patches' volume rates times ``dL``);
    per wheelset: the equivalent conicity (EN 15302, amplitude 3 mm, nonlinear method) on the
@@ -268,10 +269,8 @@ def wear_loop(
                  for k, _, _ in keys}  # fmt: skip
         vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
                for k, _, _ in keys}  # fmt: skip
-        peak = max(float(d.max()) for d in depth.values())
-        if not peak > 0.0:
-            reason = "no wear on this route (every depth is zero)"
-            break
+        smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
+        peak = max(float(d.max()) for d in smooth.values())
         dl = max_depth_m / peak if step_rule == "max_depth" else float(step_km)
         dl = min(dl, mileage_km - mileage)
         step += 1
@@ -279,7 +278,7 @@ def wear_loop(
                "failed_cases": "; ".join(bad)}  # fmt: skip
         new = {}
         for key, _, _ in keys:
-            worn = smooth_depth(depth[key] * dl, grid[1], smoothing_m)
+            worn = smooth[key] * dl
             path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
             new[key] = worn_profile(current[key], y, worn, path,
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
