@@ -139,3 +139,22 @@ def test_loop_files(loop_result):
     assert math.isfinite(flange_measures(p)["flange_thickness_m"])
     # the first step's largest raw depth is the rule's 0.1 mm (smoothing lowers the peak)
     assert loop_result.steps[1]["step_km"] > 0.0
+
+
+def test_cli_wear(tmp_path, capsys):
+    """``railexu wear``: one step of a short straight route writes the steps, the profiles and
+    the figures (exit 0 when the mileage is reached); a bad route is exit 2 naming the key."""
+    from railexu.cli import main
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
+    out = tmp_path / "out"
+    code = main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out),
+                 "--step", "1 km"])  # fmt: skip
+    assert code == 0
+    assert (out / "figures" / "profiles.png").is_file()
+    assert (out / "step_001" / "profiles" / "ws1_right.txt").is_file()
+    bad = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                 "speed: 20 m/s, lenght: 10 m}\n")  # fmt: skip
+    assert main(["wear", "wheelset", str(bad), "--mileage", "1 km", "--out", str(out)]) == 2
+    assert "sections[0].lenght: unknown key" in capsys.readouterr().err
