@@ -6,7 +6,8 @@ One step:
 1. every case of the route (a section in one direction, :mod:`.route`) is run with the current
    profiles (``contact_outputs`` on) and worn by the chosen law over its evaluation window
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
-   cases run on local worker processes, each case's result is kept in
+   cases run on local worker processes (a study's: :mod:`railexu.study.worker`, forked from
+   the fork server of :mod:`railexu.runtime.fork_server`), each case's result is kept in
    ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
 3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
@@ -154,10 +155,14 @@ def _run_cases(vehicle, route, out, step, law, workers, initial_lateral_m, log) 
     if todo:
         log(f"step {step}: running {len(todo)} case(s) on {min(workers, len(todo))} process(es)")
     if workers > 1 and len(todo) > 1:
-        import multiprocessing
+        # the study's worker processes: forked from the fork server (never from this process,
+        # which may hold OpenMP threads), contacts on one thread, ending with this process
+        from railexu.runtime.fork_server import pool_context
+        from railexu.study.worker import _worker_init
 
-        ctx = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=ctx) as pool:
+        n = min(workers, len(todo))
+        with ProcessPoolExecutor(n, mp_context=pool_context(), initializer=_worker_init,
+                                 initargs=(os.getpid(),)) as pool:  # fmt: skip
             done = list(pool.map(_run_case, todo))
     else:
         done = [_run_case(t) for t in todo]
