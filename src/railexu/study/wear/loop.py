@@ -28,6 +28,7 @@ The wheels wear, the rails do not (their wear per axle passage is reported per c
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import math
 import os
@@ -57,6 +58,10 @@ from railexu.vehicle.vehicle import Vehicle, load_vehicle
 __all__ = ["STEP_RULES", "WearLoopResult", "wear_loop"]
 
 STEP_RULES = ("max_depth", "fixed")
+#: rule max_depth: the largest change of the route's peak wear rate accepted over a step
+RATE_TOLERANCE = 1.5
+#: the smallest step depth the rate control halves to is max_depth / MAX_HALVINGS
+MAX_HALVINGS = 64
 #: the conicity amplitude (EN 15302: y = 3 mm) [m]
 CONICITY_AMPLITUDE_M = 0.003
 _SIDES = ("left", "right")
@@ -131,6 +136,15 @@ def _run_case(args) -> dict:
     return out
 
 
+def _profile_stamp(profile: str) -> str:
+    """A profile's name, or its file's path and content digest (a step made again rewrites the
+    same file)."""
+    path = Path(profile)
+    if path.is_file():
+        return f"{path}:{hashlib.sha256(path.read_bytes()).hexdigest()}"
+    return str(profile)
+
+
 def _case_file(out: Path, step: int, case: RouteCase) -> Path:
     return out / f"step_{step:03d}" / "cases" / f"{case.name}_{case.direction}.npz"
 
@@ -140,9 +154,9 @@ def _run_cases(vehicle, route, out, step, law, workers, initial_lateral_m, log) 
     it with the same profiles, else run (on ``workers`` local processes)."""
     tracks = out / "tracks"
     todo, results = [], {}
-    stamp = json.dumps([vehicle.wheelsets[i].wheel_profile for i in range(len(vehicle.wheelsets))]
-                       + [vehicle.wheelsets[i].profile_right for i in range(len(vehicle.wheelsets))]
-                       + [law])  # fmt: skip
+    stamp = json.dumps([_profile_stamp(ws.wheel_profile) for ws in vehicle.wheelsets]
+                       + [_profile_stamp(ws.profile_right) for ws in vehicle.wheelsets]
+                       + [law, initial_lateral_m])  # fmt: skip
     for case in route.cases:
         path = _case_file(out, step, case)
         if path.is_file():
@@ -208,6 +222,7 @@ def wear_loop(
     workers: int = 1,
     max_steps: int = 100,
     initial_lateral_m: float = 0.0,
+    rate_tolerance: float | None = RATE_TOLERANCE,
     log=None,
 ) -> WearLoopResult:
     """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
@@ -223,6 +238,10 @@ def wear_loop(
         workers: local processes for the cases of a step.
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
         initial_lateral_m: the wheelsets' initial lateral offset in each case [m].
+        rate_tolerance: rule ``max_depth``: a step over which the route's largest wear rate
+            changes by more than this factor (up or down) is made again with half the depth
+            (at most :data:`MAX_HALVINGS` times); the next step may double again up to
+            ``max_depth_m``. None or 0: no control.
         log: a callable taking one line of progress (default: none).
 
     Raises:
@@ -253,42 +272,55 @@ def wear_loop(
         profiles[key] = ws.wheel_profile if side == "left" else ws.profile_right
     straight = _straight_track(route, out)
     result = WearLoopResult(out=out)
-    mileage, step = 0.0, 0
+    mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
     row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m, False, "")
     reason = ""
+    last = None  # the step just made: the profiles and rates it started from, its depth
+    depth_limit = max_depth_m
     while mileage < mileage_km * (1.0 - 1e-9):
         if step >= max_steps:
             reason = f"stopped after max_steps = {max_steps} steps at {mileage:.4g} km"
             break
-        veh = _with_profiles(vehicle, profiles)
-        cases = _run_cases(veh, route, out, step, law, workers, initial_lateral_m, log)
-        bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
-               if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
-        grid = np.asarray(next(iter(cases.values()))["grid"])
-        y = grid[0] + grid[1] * np.arange(int(grid[2]))
-        depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
-                 for k, _, _ in keys}  # fmt: skip
-        vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
-               for k, _, _ in keys}  # fmt: skip
-        smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
-        peak = max(float(d.max()) for d in smooth.values())
-        dl = max_depth_m / peak if step_rule == "max_depth" else float(step_km)
+        rates = _route_rates(vehicle, profiles, route, out, step, law, workers,
+                             initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+        if last is not None and step_rule == "max_depth" and rate_tolerance:
+            ratio = rates["peak"] / last["rates"]["peak"]
+            if not (1.0 / rate_tolerance <= ratio <= rate_tolerance) and (
+                last["depth"] > max_depth_m / MAX_HALVINGS
+            ):
+                # the rate changed too much over the last step: make it again with half the depth
+                result.steps.pop()
+                step -= 1
+                profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
+                rates, depth_limit = last["rates"], 0.5 * last["depth"]
+                rejected += 1
+                log(f"step {step + 1} made again with half the depth "
+                    f"({depth_limit * 1e3:.4g} mm): the largest wear rate changed by a factor "
+                    f"{ratio:.3g} over it")  # fmt: skip
+            else:
+                depth_limit = min(max_depth_m, 2.0 * last["depth"])
+        if not rates["peak"] > 0.0:
+            reason = "no wear on this route (every depth is zero)"
+            break
+        dl = depth_limit / rates["peak"] if step_rule == "max_depth" else float(step_km)
         dl = min(dl, mileage_km - mileage)
+        last = {"profiles": dict(profiles), "current": dict(current), "mileage": mileage,
+                "rates": rates, "depth": dl * rates["peak"]}  # fmt: skip
         step += 1
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
-               "failed_cases": "; ".join(bad)}  # fmt: skip
+               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected}  # fmt: skip
         new = {}
         for key, _, _ in keys:
-            worn = smooth[key] * dl
+            worn = rates["smooth"][key] * dl
             path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
-            new[key] = worn_profile(current[key], y, worn, path,
+            new[key] = worn_profile(current[key], rates["y"], worn, path,
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
             area = removed_area(current[key], new[key])
-            expected = vol[key] * dl
+            expected = rates["vol"][key] * dl
             row[f"{key}_area_mm2"] = area * 1e6
             row[f"{key}_area_integral_mm2"] = expected * 1e6
             row[f"{key}_conservation_error"] = area / expected - 1.0 if expected > 0 else 0.0
@@ -306,6 +338,29 @@ def wear_loop(
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                  result.complete, reason)  # fmt: skip
     return result
+
+
+def _route_rates(vehicle, profiles, route, out, step, law, workers, initial_lateral_m, keys,
+                 smoothing_m, log) -> dict:  # fmt: skip
+    """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
+    volume rate per km, the largest depth per km and the cases that did not complete."""
+    veh = _with_profiles(vehicle, profiles)
+    cases = _run_cases(veh, route, out, step, law, workers, initial_lateral_m, log)
+    bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
+           if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
+    grid = np.asarray(next(iter(cases.values()))["grid"])
+    depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
+             for k, _, _ in keys}  # fmt: skip
+    vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
+           for k, _, _ in keys}  # fmt: skip
+    smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
+    return {
+        "smooth": smooth,
+        "vol": vol,
+        "peak": max(float(d.max()) for d in smooth.values()),
+        "bad": bad,
+        "y": grid[0] + grid[1] * np.arange(int(grid[2])),
+    }
 
 
 def _measures(profiles: dict, conicity: dict) -> dict:
