@@ -281,13 +281,17 @@ def wear_loop(
     reason = ""
     last = None  # the step just made: the profiles and rates it started from, its depth
     depth_limit = max_depth_m
-    while mileage < mileage_km * (1.0 - 1e-9):
-        if step >= max_steps:
+    control = step_rule == "max_depth" and bool(rate_tolerance)
+    while True:
+        reached = mileage >= mileage_km * (1.0 - 1e-9)
+        if reached and (not control or last is None or last.get("checked")):
+            break
+        if step >= max_steps and not reached:
             reason = f"stopped after max_steps = {max_steps} steps at {mileage:.4g} km"
             break
         rates = _route_rates(vehicle, profiles, route, out, step, law, workers,
                              initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
-        if last is not None and step_rule == "max_depth" and rate_tolerance:
+        if last is not None and control:
             ratio = rates["peak"] / last["rates"]["peak"]
             if not (1.0 / rate_tolerance <= ratio <= rate_tolerance) and (
                 last["depth"] > max_depth_m / MAX_HALVINGS
@@ -302,7 +306,10 @@ def wear_loop(
                     f"({depth_limit * 1e3:.4g} mm): the largest wear rate changed by a factor "
                     f"{ratio:.3g} over it")  # fmt: skip
             else:
+                last["checked"] = True
                 depth_limit = min(max_depth_m, 2.0 * last["depth"])
+                if reached:
+                    break
         if not rates["peak"] > 0.0:
             reason = "no wear on this route (every depth is zero)"
             break
