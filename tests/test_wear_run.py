@@ -84,3 +84,23 @@ def test_without_contact_outputs_is_input_error(tmp_path):
     vehicle, result = _run(tmp_path, route.cases[1], route, outputs=False)
     with pytest.raises(InputError, match="contact_outputs"):
         run_wear(result.timeseries, vehicle)
+
+
+def test_run_wear_files(curve, tmp_path):
+    """wear.csv (profiles' grids and each wheel's and rail's columns) and wear.json (strict
+    JSON, the window and the law) written into a run's folder."""
+    import json
+
+    from railexu.contact.wear.coefficients import COEFFICIENTS_FILE
+    from railexu.report.wear_files import write_run_wear
+
+    _, _, wears = curve
+    csv_path, json_path = write_run_wear(tmp_path, wears, "archard_jendel", str(COEFFICIENTS_FILE))
+    header = csv_path.read_text().splitlines()[0].split(",")
+    assert header[:2] == ["wheel_lateral_m", "rail_lateral_m"]
+    assert "ws1_right_rail_depth_per_axle_m" in header
+    info = json.loads(json_path.read_text())
+    assert info["law"] == "archard_jendel" and info["wheels"][1]["side"] == "right"
+    data = np.genfromtxt(csv_path, delimiter=",", skip_header=1)
+    j = header.index("ws1_right_wheel_depth_per_km_m")
+    assert np.nansum(data[:, j]) * WHEEL_GRID[1] == pytest.approx(wears[1].area_per_km_m2, rel=1e-6)

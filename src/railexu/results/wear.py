@@ -89,10 +89,10 @@ class WheelWear:
     window: tuple
 
     def summary(self) -> dict:
-        """The scalars (JSON-ready), with the window and the rules."""
+        """The scalars (JSON-ready: None where not finite), with the window and the rules."""
         i = int(np.argmax(self.depth_per_km_m))
         j = int(np.argmax(self.wlrm_rail_per_axle))
-        return {
+        out = {
             "wheelset": self.wheelset,
             "side": self.side,
             "window_m": [self.window[0], self.window[1]],
@@ -108,6 +108,8 @@ class WheelWear:
             "wlrm_rail_max_at_mm": float(self.rail_lateral_m[j] * 1e3),
             "wlrm_wheel_per_km": float(self.wlrm_wheel_per_km.sum()),
         }
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+                for k, v in out.items()}  # fmt: skip
 
 
 def _sample_lengths(x: np.ndarray, start: float, end: float) -> np.ndarray:
