@@ -187,3 +187,29 @@ def test_step_size_study(tmp_path):
     peak = depth[5e-5].max()
     assert peak > 1e-6
     assert np.abs(depth[1e-4] - depth[5e-5]).max() < 0.05 * peak
+
+
+def test_loop_stops_when_a_case_fails(tmp_path, monkeypatch):
+    """A case that does not complete (here one marked diverged) stops the loop before it
+    wears anything from it: wear.json says not complete and why."""
+    from railexu.study.wear import loop
+
+    real = loop._run_case
+
+    def fake(args):
+        out = real(args)
+        if args[2].direction == "reverse":
+            out["status"] = "diverged"
+        return out
+
+    monkeypatch.setattr(loop, "_run_case", fake)
+    route = _route(
+        tmp_path,
+        "format_version: 1\nname: c\nsections:\n  - {name: R200, share: 1, speed: 15 m/s, "
+        "length: 5 m, radius: 200 m, cant: 0 mm}\n",
+    )
+    r = loop.wear_loop("wheelset", route, 1.0, tmp_path / "out", rate_tolerance=None)
+    assert not r.complete and "R200_reverse: diverged" in r.reason
+    assert len(r.steps) == 1  # only the new profiles
+    info = json.loads((tmp_path / "out" / "wear.json").read_text())
+    assert info["complete"] is False and "diverged" in info["reason"]

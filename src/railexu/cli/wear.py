@@ -69,7 +69,6 @@ def command(args: argparse.Namespace) -> int:
             print(f"figure: {path}")
     last = result.steps[-1]
     print(f"wear: {last['mileage_km']:.6g} km in {last['step']} step(s); {args.out}/steps.csv")
-    failed = [row.get("failed_cases") for row in result.steps[1:] if row.get("failed_cases")]
-    if failed:
-        print(f"cases that did not complete: {failed[-1]}", file=sys.stderr)
-    return EXIT_OK if result.complete and not failed else EXIT_FAILED
+    if not result.complete:
+        print(f"wear: not complete: {result.reason}", file=sys.stderr)
+    return EXIT_OK if result.complete else EXIT_FAILED

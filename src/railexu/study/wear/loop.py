@@ -75,6 +75,8 @@ class WearLoopResult:
     out: Path
     steps: list[dict] = field(default_factory=list)
     complete: bool = False
+    #: why the loop stopped before the mileage ("" when complete)
+    reason: str = ""
 
     def column(self, key: str) -> np.ndarray:
         """``key`` of every step's row, in order (NaN where missing)."""
@@ -237,6 +239,8 @@ def wear_loop(
         smoothing_m: standard deviation of the Gaussian smoothing of the depth [m].
         workers: local processes for the cases of a step.
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
+            A case that does not complete (derailed, diverged) also stops the loop, with the
+            profiles so far and the reason in ``wear.json``.
         initial_lateral_m: the wheelsets' initial lateral offset in each case [m].
         rate_tolerance: rule ``max_depth``: a step over which the route's largest wear rate
             changes by more than this factor (up or down) is made again with half the depth
@@ -291,6 +295,13 @@ def wear_loop(
             break
         rates = _route_rates(vehicle, profiles, route, out, step, law, workers,
                              initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+        if rates["bad"]:
+            # a case that derailed, diverged or was stopped wears over part of its window only:
+            # the loop stops here with the profiles so far and says why
+            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete: "
+                      f"{'; '.join(rates['bad'])}")  # fmt: skip
+            log(reason)
+            break
         if last is not None and control:
             ratio = rates["peak"] / last["rates"]["peak"]
             if not (1.0 / rate_tolerance <= ratio <= rate_tolerance) and (
@@ -342,6 +353,7 @@ def wear_loop(
         _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                      False, "")  # fmt: skip
     result.complete = not reason
+    result.reason = reason
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                  result.complete, reason)  # fmt: skip
     return result
