@@ -36,8 +36,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="largest depth taken off any wheel per step (default 0.1 mm)")  # fmt: skip
     p.add_argument("--step", type=quantity("m"), default=None,
                    help="fixed mileage per step instead of --max-depth")  # fmt: skip
-    p.add_argument("--smoothing", type=quantity("m"), default=1e-3,
-                   help="the depth's Gaussian smoothing, its sigma (default 1 mm)")  # fmt: skip
+    p.add_argument("--smoothing", type=quantity("m"), default=3e-3,
+                   help="the depth's Gaussian smoothing, its sigma (default 3 mm)")  # fmt: skip
     p.add_argument("--workers", type=int, default=1, help="local processes for the cases")
     p.add_argument("--max-steps", type=int, default=100, help="most steps (default 100)")
     p.add_argument("--no-plots", action="store_true", help="do not draw the figures")

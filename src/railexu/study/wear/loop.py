@@ -220,7 +220,7 @@ def wear_loop(
     step_rule: str = "max_depth",
     max_depth_m: float = 1.0e-4,
     step_km: float | None = None,
-    smoothing_m: float = 1.0e-3,
+    smoothing_m: float = 3.0e-3,
     workers: int = 1,
     max_steps: int = 100,
     initial_lateral_m: float = 0.0,
@@ -236,7 +236,9 @@ def wear_loop(
         law: the wear law (:data:`~railexu.contact.wear.laws.WEAR_LAWS`).
         step_rule: ``max_depth`` (the largest depth per step is ``max_depth_m``) or ``fixed``
             (``step_km`` per step).
-        smoothing_m: standard deviation of the Gaussian smoothing of the depth [m].
+        smoothing_m: standard deviation of the Gaussian smoothing of the depth [m]; 3 mm by
+            default (with 1 mm the wagon's curve cases diverged on the first worn profiles,
+            docs/wear.md).
         workers: local processes for the cases of a step.
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
             A case that does not complete (derailed, diverged) also stops the loop, with the
