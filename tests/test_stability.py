@@ -146,12 +146,12 @@ def test_bisection_is_deterministic_and_brackets_a_change(bisection_settings):
 
 
 class _RampSeries:
-    """A ramp's time series with a known branch: settle at ``v0`` for 4 s, then decelerate at
+    """A ramp's time series with a known branch: settle at ``v0`` for 12 s, then decelerate at
     ``a``; a 3 Hz oscillation of 3 mm (ws1) that holds while the speed is at least ``fold`` and
     then decays at 1.5 /s (ws2 the same at half the amplitude)."""
 
     def __init__(self, v0: float, a: float, fold: float, v_end: float):
-        t_settle = 4.0
+        t_settle = 12.0
         t_end = t_settle + (v0 - v_end) / a
         self.time_s = np.arange(0.0, t_end, 0.01)
         t = self.time_s
@@ -172,9 +172,9 @@ class _RampSeries:
 
 @pytest.mark.parametrize("a", [1.0, 0.5])
 def test_ramp_classifies_windows_by_growth_rate(a):
-    """A synthetic ramp over a fold at 33 m/s: windows of eight periods (2.67 s) are classified
+    """A synthetic ramp over a fold at 33 m/s: windows of 16 periods (5.33 s) are classified
     by the fitted envelope's growth rate; the critical speed is the end of the last window with
-    the cycle, within one window's speed change (the stated resolution, a x 2.67 s) of the fold,
+    the cycle, within one window's speed change (the stated resolution, a x 5.33 s) of the fold,
     at both rates."""
     from railexu.stability.ramp import classify_ramp
 
@@ -182,9 +182,9 @@ def test_ramp_classifies_windows_by_growth_rate(a):
     settings = CriticalSpeedSettings(methods=("ramp",))
     out = classify_ramp(ts, ts.settle_m, a, settings)
     assert out["plateau"]["classification"] == "limit cycle"
-    assert out["window_s"] == pytest.approx(8.0 / 3.0, rel=0.01)
+    assert out["window_s"] == pytest.approx(16.0 / 3.0, rel=0.01)
     res = out["resolution_m_per_s"]
-    assert res == pytest.approx(a * 8.0 / 3.0, rel=0.01)
+    assert res == pytest.approx(a * 16.0 / 3.0, rel=0.01)
     assert 33.0 - res <= out["critical_speed_m_per_s"] <= 33.0 + res
     classes = [w["classification"] for w in out["windows"]]
     assert classes[0] == "limit cycle" and classes[-1] in ("decaying", "below floor")

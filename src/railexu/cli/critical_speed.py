@@ -163,6 +163,8 @@ def _method_status(method: str, section: dict) -> list[str]:
         found = f"{v:.2f} m/s" if v is not None else r.get("note", "not found")
         lines.append(f"    ramp at {r['deceleration_m_per_s2']:g} m/s^2 over {r['distance_m']:.0f} "
                      f"m: {found} ({r['status']})")  # fmt: skip
+    if section.get("warning"):
+        lines.append(f"  warning: {section['warning']}")
     if "rate_independent" in section:
         same = "agree" if section["rate_independent"] else "DISAGREE"
         lines.append(f"  the two rates {same} within their resolutions "

@@ -101,7 +101,31 @@ def run_stage(
     return out
 
 
+#: Fewer periods than this in a plateau's fit window resolve the growth rate more coarsely than
+#: the classification's 1 % per period (:mod:`railexu.stability.ramp`, ``WINDOW_PERIODS``).
+MIN_FIT_PERIODS = 16.0
+
+
 def branch_critical_speed(
+    vehicle: Vehicle,
+    track: Track | None = None,
+    settings: CriticalSpeedSettings | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
+    """The branch (:func:`_branch`) with a warning where a plateau's fit window held fewer than
+    :data:`MIN_FIT_PERIODS` periods (a longer ``distance`` or ``fit_fraction`` resolves it)."""
+    out = _branch(vehicle, track, settings, progress)
+    periods = [p["fit_periods"] for p in out["branch"] if p.get("fit_periods")]
+    if periods and min(periods) < MIN_FIT_PERIODS:
+        out["warning"] = (
+            f"the shortest fit window held {min(periods):.1f} periods (fewer than "
+            f"{MIN_FIT_PERIODS:g}): its growth rate is resolved to about "
+            f"{0.13 / min(periods):.1%} per period, against the 1 % band of the classification"
+        )
+    return out
+
+
+def _branch(
     vehicle: Vehicle,
     track: Track | None = None,
     settings: CriticalSpeedSettings | None = None,

@@ -92,6 +92,7 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
         "growth_rate_per_s": fit.growth_rate_per_s,
         "growth_per_period": fit.growth_per_period,
         "frequency_Hz": fit.frequency_Hz,
+        "fit_periods": (t_s[-1] - t_s[0]) * fit.frequency_Hz if fit.frequency_Hz else None,
         "wheelset": name,
         "fit_window_s": list(fit.window_s) if fit.window_s else None,
     }
@@ -147,7 +148,8 @@ def _judgement(settings: CriticalSpeedSettings) -> str:
         f"{settings.floor_m * 1e3:g} mm, or a limit cycle of at least "
         f"{settings.limit_cycle_floor_m * 1e3:g} mm: unstable; decaying, below "
         f"{settings.floor_m * 1e3:g} mm or a smaller limit cycle: stable; +-1 % per period "
-        "counts as a limit cycle)"
+        "counts as a limit cycle; the fit resolves the growth to about 0.13 / N per period over "
+        "N periods (fit_periods): at least 16 periods are needed for the 1 % band)"
     )
 
 
