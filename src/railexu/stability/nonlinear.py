@@ -149,7 +149,8 @@ def _judgement(settings: CriticalSpeedSettings) -> str:
         f"{settings.limit_cycle_floor_m * 1e3:g} mm: unstable; decaying, below "
         f"{settings.floor_m * 1e3:g} mm or a smaller limit cycle: stable; +-1 % per period "
         "counts as a limit cycle; the fit resolves the growth to about 0.13 / N per period over "
-        "N periods (fit_periods): at least 16 periods are needed for the 1 % band)"
+        "N periods (fit_periods): at least 16 periods are needed for the 1 % band); the floors "
+        "and the 1 % band are railexu's assumptions"
     )
 
 
