@@ -508,3 +508,43 @@ def test_bifurcation_diagram_marks_the_branch_and_the_linear_speed(tmp_path):
     assert "linear: 44.0 m/s" in labels and "nonlinear (branch): 35.0 m/s" in labels
     written = write_critical_speed({**result, "linear": None}, tmp_path, plots=False)
     assert json.loads(written[0].read_text())["nonlinear_branch_m_per_s"] == 35.0
+
+
+def test_bisection_records_its_disturbance_and_run_duration(monkeypatch):
+    """Bisection states the disturbance, the distance of its runs and their duration at the
+    highest and lowest speed (distance / speed), and judges by the growth rate."""
+    import railexu.stability.nonlinear as nl
+
+    def fake(vehicle, track, speed, settings, offset_m=None):
+        return {"speed_m_per_s": speed, "stable": speed < 33.0, "amplitude_m": 2e-3,
+                "classification": "decaying" if speed < 33.0 else "limit cycle",
+                "growth_per_period": 0.0, "frequency_Hz": 3.0}  # fmt: skip
+
+    monkeypatch.setattr(nl, "nonlinear_run_is_stable", fake)
+    settings = CriticalSpeedSettings(methods=("bisection",), speed_min_m_per_s=20.0,
+                                     speed_max_m_per_s=50.0, distance_m=150.0)  # fmt: skip
+    out = bisection_critical_speed(None, None, settings)
+    assert out["bracket_m_per_s"][0] < 33.0 <= out["bracket_m_per_s"][1]
+    assert out["run_distance_m"] == 150.0 and "4 mm" in out["disturbance"]
+    assert "3.00 s at the highest speed" in out["run_duration"]
+    assert "7.50 s at the lowest" in out["run_duration"]
+    assert "growth rate" in out["judged_by"] and "railexu's assumptions" in out["judged_by"]
+
+
+def test_summary_says_whether_the_ramp_converged_within_its_budget():
+    """The printed summary of a ramp: its status (budget exhausted), both rates with what each
+    found, and whether they agree; of a branch: its status and resolution."""
+    from railexu.cli.critical_speed import summary_lines
+
+    ramps = [{"deceleration_m_per_s2": a, "distance_m": 5000.0, "status": "budget exhausted",
+              "critical_speed_m_per_s": None, "note": "budget exhausted: still hunting"}
+             for a in (0.5, 0.25)]  # fmt: skip
+    result = {"ramp": {"status": "budget exhausted", "ramps": ramps, "note": "budget exhausted",
+                       "resolution_m_per_s": 1.2},
+              "branch": {"status": "converged", "resolution_m_per_s": 1.25, "branch": []},
+              "nonlinear_ramp_m_per_s": None, "nonlinear_branch_m_per_s": 31.25}  # fmt: skip
+    text = "\n".join(summary_lines(result, ("ramp", "branch")))
+    assert "nonlinear, ramp: not found in range  [budget exhausted]" in text
+    assert "status: budget exhausted, resolution 1.20 m/s" in text
+    assert "ramp at 0.25 m/s^2 over 5000 m" in text
+    assert "status: converged, resolution 1.25 m/s" in text
