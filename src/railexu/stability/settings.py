@@ -49,6 +49,8 @@ class CriticalSpeedSettings:
         linearization: ``equivalent_conicity`` (default) or ``profiles``.
         ramp_deceleration_m_per_s2: deceleration of the ramp.
         ramp_settle_m: distance run at the top speed before the ramp starts.
+        ramp_budget_m: the most distance one ramp may run (settling included): a ramp that
+            would need more is cut there and says ``budget exhausted``.
         time_step_s: integration step of the nonlinear runs.
         branch_step_m_per_s: speed step of the limit-cycle branch (``branch`` method).
         max_runs: most runs of the branch method (its budget).
@@ -72,6 +74,7 @@ class CriticalSpeedSettings:
     linearization: str = "equivalent_conicity"
     ramp_deceleration_m_per_s2: float = 0.5
     ramp_settle_m: float = 200.0
+    ramp_budget_m: float = 20000.0
     time_step_s: float = 0.002
     branch_step_m_per_s: float = 5.0
     max_runs: int = 30
@@ -140,6 +143,8 @@ class CriticalSpeedSettings:
             raise StabilityError(f"ramp_settle {self.ramp_settle_m:g} m: expected >= 0 m")
         if not self.branch_step_m_per_s > 0.0:
             raise StabilityError("branch_step must be > 0 m/s")
+        if not self.ramp_budget_m > self.ramp_settle_m:
+            raise StabilityError("ramp_budget must be longer than ramp_settle")
         if self.max_runs < 2:
             raise StabilityError("max_runs must be >= 2")
         if not 0.1 <= self.fit_fraction <= 0.9:
@@ -161,6 +166,7 @@ CRITICAL_SPEED_KEYS = (
     "linearization",
     "ramp_deceleration",
     "ramp_settle",
+    "ramp_budget",
     "time_step",
     "branch_step",
     "max_runs",
@@ -205,6 +211,7 @@ def critical_speed_settings_from_dict(
             "ramp_deceleration", "m/s^2", default=d.ramp_deceleration_m_per_s2, positive=True
         ),
         ramp_settle_m=sec.quantity("ramp_settle", "m", default=d.ramp_settle_m, minimum=0.0),
+        ramp_budget_m=sec.quantity("ramp_budget", "m", default=d.ramp_budget_m, positive=True),
         time_step_s=sec.quantity("time_step", "s", default=d.time_step_s, positive=True),
         branch_step_m_per_s=sec.quantity(
             "branch_step", "m/s", default=d.branch_step_m_per_s, positive=True
