@@ -72,6 +72,7 @@ def run_acceptance(
     programme_overrides: Iterable[str] = (),
     quasi_static: bool = True,
     progress: Callable[[str], None] | None = None,
+    run_settings: dict[str, str] | None = None,
 ) -> AcceptanceResult:
     """Take ``vehicle`` through an EN 14363 running-behaviour programme.
 
@@ -88,6 +89,8 @@ def run_acceptance(
         programme_overrides: ``dotted.key=value`` changes of the programme.
         quasi_static: also run the quasi-static tests (twist, bogie yaw resistance).
         progress: called with one line of text per step (default: print to standard error).
+        run_settings: keys of the run file's ``run:`` section for every section's run (e.g.
+            ``{"time_step": "1 ms"}``: the step-size study of ``docs/acceptance.md``).
 
     Raises:
         InputError: bad vehicle, programme or folder (naming the file, line and key).
@@ -121,7 +124,7 @@ def run_acceptance(
     zone_results, section_values, zone_errors, studies = {}, {}, {}, {}
     for zone in prog.zones:
         outcome = _run_zone(zone, prog, vehicle_file, vehicle_obj, overrides, out, workers,
-                            scheduler, say)  # fmt: skip
+                            scheduler, say, run_settings)  # fmt: skip
         studies[zone.name] = outcome["study"]
         if "error" in outcome:
             zone_errors[zone.name] = outcome["error"]
@@ -154,7 +157,9 @@ def default_programme(category: str) -> str:
     return name
 
 
-def _run_zone(zone, prog, vehicle_file, vehicle, overrides, out, workers, scheduler, say):
+def _run_zone(
+    zone, prog, vehicle_file, vehicle, overrides, out, workers, scheduler, say, run_settings=None
+):
     from railexu.study import load_study, print_study_progress, run_study
     from railexu.study.acceptance.zone_study import write_zone_files, zone_study, zone_track
 
@@ -163,7 +168,9 @@ def _run_zone(zone, prog, vehicle_file, vehicle, overrides, out, workers, schedu
     study_file = write_zone_files(
         folder,
         zone_track(zone, sections),
-        zone_study(zone, sections, vehicle_file, overrides, f"{prog.name}: {zone.name}"),
+        zone_study(
+            zone, sections, vehicle_file, overrides, f"{prog.name}: {zone.name}", run_settings
+        ),
     )
     say(f"zone {zone.name}: {len(sections)} sections ({zone.kind}, {zone.method})")
     study = load_study(study_file)
@@ -171,6 +178,9 @@ def _run_zone(zone, prog, vehicle_file, vehicle, overrides, out, workers, schedu
     done = run_study(study, folder, workers=workers, scheduler=scheduler,
                      progress=print_study_progress(stream))  # fmt: skip
     outcome: dict[str, Any] = {"study": _study_summary(done, folder)}
+    pct = _transition_comfort(done, folder)
+    if pct["sections"]:
+        outcome["study"]["curve_transition_comfort"] = pct
     try:
         svs = _section_values(done, folder, sections, vehicle)
         outcome["sections"] = svs
@@ -197,6 +207,37 @@ def _section_values(done, folder: Path, sections, vehicle) -> list:
         if not ts_file.is_file():
             continue
         out.append(section_values(TimeSeries.from_csv(ts_file), vehicle, section))
+    return out
+
+
+def _transition_comfort(done, folder: Path) -> dict:
+    """EN 12299 P_CT of the sections' transitions (each finished case's summary,
+    ``curve_transitions``): per section the largest over its points, and the zone's largest
+    (railexu's rule: P_CT is reported, EN 14363 sets no limit on it)."""
+    import json
+
+    from railexu.study.folder import CASES_DIR
+
+    sections: dict[str, dict] = {}
+    clause = assumption = None
+    for row in done.rows:
+        if row.get("status") not in ("completed", "completed_with_exceedances"):
+            continue
+        path = folder / CASES_DIR / str(row.get("case_id")) / "summary.json"
+        try:
+            ct = json.loads(path.read_text()).get("curve_transitions") or {}
+        except (OSError, ValueError):
+            continue
+        clause, assumption = ct.get("clause", clause), ct.get("assumption", assumption)
+        for tr in ct.get("transitions", []):
+            sections[str(row["case_id"])] = {
+                k: tr[k] for k in ("start_m", "end_m", "P_CT_standing_percent",
+                                   "P_CT_seated_percent")
+            }  # fmt: skip
+    out: dict[str, Any] = {"sections": sections, "clause": clause, "assumption": assumption}
+    for key in ("P_CT_standing_percent", "P_CT_seated_percent"):
+        values = [v[key] for v in sections.values()]
+        out[f"max_{key}"] = max(values) if values else None
     return out
 
 

@@ -84,8 +84,11 @@ def zone_study(
     vehicle_file: Path,
     vehicle_overrides: tuple[str, ...] = (),
     name: str = "",
+    run_settings: dict[str, str] | None = None,
 ) -> dict[str, Any]:
-    """The study mapping of a zone: one case per section, conditions varied together."""
+    """The study mapping of a zone: one case per section, conditions varied together;
+    ``run_settings`` adds keys of the run file's ``run:`` section to every case (e.g.
+    ``{"time_step": "1 ms"}`` for a step-size study)."""
     parameters: dict[str, list] = {}
     if zone.kind == "curve":
         key = "track.geometry.sections.1"
@@ -101,7 +104,8 @@ def zone_study(
     base: dict[str, Any] = {
         "vehicle": str(vehicle_file),
         "track": "track.yaml",
-        "run": {"distance": f"{distance:.3f} m", "initial_lateral": "0 mm"},
+        "run": {"distance": f"{distance:.3f} m", "initial_lateral": "0 mm"}
+        | dict(run_settings or {}),
     }
     if vehicle_overrides:
         base["set"] = [f"vehicle.{item}" for item in vehicle_overrides]
