@@ -134,7 +134,7 @@ def test_a_rigid_car_body_through_a_transition_matches_the_analytic_motion():
         "geometry": {"type": "sections", "sections": [
             {"type": "straight", "length": "10 m"},
             {"type": "transition", "length": f"{length} m"},
-            {"type": "curve", "length": "100 m", "radius": f"{radius} m", "cant": f"{cant} m",
+            {"type": "curve", "length": "150 m", "radius": f"{radius} m", "cant": f"{cant} m",
              "direction": "left"}]},
     })  # fmt: skip
     settings = RunSettings(speed_m_per_s=speed, distance_m=205.0, initial_lateral_m=0.0)

@@ -242,7 +242,11 @@ def _transition_comfort(done, folder: Path) -> dict:
 
 
 def _evaluate(zone, prog, svs, vehicle):
-    from railexu.assessment.acceptance.limits import limits_for
+    from railexu.assessment.acceptance.limits import (
+        limits_for,
+        with_y_qst_radius_rule,
+        y_qst_limit_radius_m,
+    )
     from railexu.assessment.acceptance.quantities import bogie_mass_kg, static_wheel_load_N
     from railexu.assessment.acceptance.statistics import evaluate_zone
 
@@ -252,11 +256,11 @@ def _evaluate(zone, prog, svs, vehicle):
         prog.category if prog.category else vehicle.category,
         static_wheel_load_N(vehicle),
         speed_m_per_s=max(s.speed_m_per_s for s in sections),
-        mean_radius_m=(sum(radii) / len(radii)) if radii else None,
+        mean_radius_m=y_qst_limit_radius_m(zone, radii),
         bogie_mass_kg=bogie_mass_kg(vehicle),
         overrides=prog.limits,
     )
-    return evaluate_zone(zone, svs, limits)
+    return evaluate_zone(zone, svs, with_y_qst_radius_rule(limits, zone))
 
 
 def _quasi_static_tests(vehicle, say) -> dict:
@@ -282,7 +286,33 @@ def _quasi_static_tests(vehicle, say) -> dict:
         tests["yaw_resistance_test"] = _guarded(
             lambda: yaw_resistance.yaw_resistance_test(vehicle).to_dict()
         )
+        if vehicle.category not in YAW_TEST_CATEGORIES:
+            tests["yaw_resistance_test"] = _informative(tests["yaw_resistance_test"])
     return tests
+
+
+#: The vehicle categories whose bogie yaw resistance is judged by the X factor: the limit
+#: X <= 0.1 is UIC 530-2's, a leaflet for freight wagons (railexu's reading of EN 14363:2016
+#: 6.2: for other categories the running tests in small-radius curves (Y/Q, Y_qst) judge the
+#: yaw resistance; railexu's assumption until checked against the standard).
+YAW_TEST_CATEGORIES = ("wagon",)
+
+
+def _informative(entry: dict) -> dict:
+    """A yaw-resistance result of a vehicle outside :data:`YAW_TEST_CATEGORIES`: not
+    applicable, its X factor kept for information and not judged."""
+    if entry.get("status") != "completed":
+        return entry
+    return {
+        "status": "not_applicable",
+        "reason": (
+            "the X factor limit (0.1) is UIC 530-2's for freight wagons; for this category the "
+            "running tests in small-radius curves judge the yaw resistance (railexu's reading "
+            "of EN 14363:2016 6.2, an assumption)"
+        ),
+        "assumption": True,
+        "informative": {k: v for k, v in entry.items() if k != "status"},
+    }
 
 
 def _guarded(compute: Callable[[], dict]) -> dict:
