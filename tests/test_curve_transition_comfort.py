@@ -132,13 +132,15 @@ def test_a_rigid_car_body_through_a_transition_matches_the_analytic_motion():
     track = track_from_dict({
         "format_version": 1, "name": "P_CT check",
         "geometry": {"type": "sections", "sections": [
-            {"type": "straight", "length": "10 m"},
+            {"type": "straight", "length": "30 m"},
             {"type": "transition", "length": f"{length} m"},
             {"type": "curve", "length": "150 m", "radius": f"{radius} m", "cant": f"{cant} m",
              "direction": "left"}]},
     })  # fmt: skip
-    settings = RunSettings(speed_m_per_s=speed, distance_m=205.0, initial_lateral_m=0.0)
+    settings = RunSettings(speed_m_per_s=speed, distance_m=200.0, initial_lateral_m=0.0)
     result = run(vehicle, track, settings)
+    # (the stiffened body cannot follow the ramp's warp: its wheel unloading may be reported)
+    assert result.status["state"] in ("completed", "completed_with_exceedances")
     phi = math.asin(cant / 1.5)
     a = speed**2 / radius * math.cos(phi) - G * math.sin(phi)
     duration = length / speed
@@ -147,7 +149,7 @@ def test_a_rigid_car_body_through_a_transition_matches_the_analytic_motion():
     ct = result.summary.extra["curve_transitions"]
     assert not ct["notes"]
     (transition,) = ct["transitions"]
-    assert transition["start_m"] == pytest.approx(10.0)
+    assert transition["start_m"] == pytest.approx(30.0)
     assert set(transition["points"]) == {"body_front", "body_centre", "body_rear"}
     for point in transition["points"].values():
         assert point["y_max_m_per_s2"] == pytest.approx(a, rel=0.05)
