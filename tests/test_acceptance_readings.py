@@ -3,6 +3,8 @@ of the Y_qst limit, and the yaw-resistance X factor outside the freight-wagon ca
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from railexu.assessment.acceptance.limits import y_qst_limit_radius_m, zone_limits
@@ -13,6 +15,7 @@ from railexu.study.acceptance.verdict import decide
 from railexu.vehicle.vehicle import load_vehicle
 
 KN = 1000.0
+ROOT_VEHICLE = Path(__file__).resolve().parents[1] / "vehicles" / "manchester_coach_extended.yaml"
 
 
 @pytest.mark.parametrize(
@@ -63,3 +66,24 @@ def test_the_yaw_resistance_of_a_non_wagon_is_informative():
     assert decide(_data(entry))["result"] == "pass"
     not_run = {"status": "not_run", "reason": "x"}
     assert _informative(not_run) is not_run
+
+
+def test_a_curve_section_starts_on_straight_track():
+    """With the lead of the vehicle's wheelbase + 1 m, the whole vehicle starts on straight
+    track (a run puts its rearmost wheelset 1 m past the track's start) and the leading
+    wheelset reaches the transition at distance 0; the study varies the curve piece after it."""
+    from railexu.study.acceptance.zone_study import curve_key, start_lead_m, zone_study
+    from railexu.study.acceptance.zone_study import zone_track as track_of
+
+    coach = load_vehicle("manchester_coach_extended")
+    lead = start_lead_m(coach)
+    assert lead == pytest.approx(2 * 10.78 + 1.0)  # wheelsets at +-10.78 m
+    zone = load_programme("coach").zone("curve_small_radius")
+    sections = zone.sections()
+    pieces = track_of(zone, sections, lead)["geometry"]["sections"]
+    assert [p["type"] for p in pieces] == ["straight", "transition", "curve"]
+    assert pieces[0]["length"] == f"{lead:.3f} m"
+    study = zone_study(zone, sections, ROOT_VEHICLE, lead_m=lead)
+    assert f"{curve_key(lead)}.radius" == "track.geometry.sections.2.radius"
+    assert f"{curve_key(lead)}.radius" in study["vary"]["parameters"]
+    assert curve_key(0.0) == "track.geometry.sections.1"

@@ -161,16 +161,21 @@ def _run_zone(
     zone, prog, vehicle_file, vehicle, overrides, out, workers, scheduler, say, run_settings=None
 ):
     from railexu.study import load_study, print_study_progress, run_study
-    from railexu.study.acceptance.zone_study import write_zone_files, zone_study, zone_track
+    from railexu.study.acceptance.zone_study import (
+        start_lead_m,
+        write_zone_files,
+        zone_study,
+        zone_track,
+    )
 
     sections = zone.sections()
     folder = out / ZONES_DIR / zone.name
+    lead = start_lead_m(vehicle) if zone.kind == "curve" else 0.0
+    name = f"{prog.name}: {zone.name}"
     study_file = write_zone_files(
         folder,
-        zone_track(zone, sections),
-        zone_study(
-            zone, sections, vehicle_file, overrides, f"{prog.name}: {zone.name}", run_settings
-        ),
+        zone_track(zone, sections, lead),
+        zone_study(zone, sections, vehicle_file, overrides, name, run_settings, lead),
     )
     say(f"zone {zone.name}: {len(sections)} sections ({zone.kind}, {zone.method})")
     study = load_study(study_file)
