@@ -28,6 +28,9 @@ from railexu.vehicle.vehicle import load_vehicle
 TOLERANCE = {"Y_qst": 0.01, "Q_qst": 0.01, "car_body_acc_y_qst": 0.01}
 PEAK_TOLERANCE = 0.05
 
+#: two runs of the coach over 155 m, one at 1 ms: longer than the suite's usual tests
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def two_steps():
