@@ -38,7 +38,7 @@ __all__ = ["RunResult", "RunSettings", "print_progress", "run"]
 
 #: The facts of the run that the summary carries after the assessment, in this order.
 _FACTS = ("timings_s", "solver", "settings", "vehicle", "track", "curving", "warnings",
-          "longitudinal")  # fmt: skip
+          "longitudinal", "curve_transitions")  # fmt: skip
 
 
 def run(
@@ -110,6 +110,7 @@ class AssessmentInputs:
     track_irregular: bool
     alignment: Alignment | None  # curved track only
     flange_height_m: float | None = None  # flange tip above the tape circle (first wheel)
+    placements: tuple = ()  # measurement points (results.transition_comfort.PointPlacement)
 
 
 def assessment_inputs(result: RunResult) -> AssessmentInputs:
@@ -128,6 +129,21 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         track_irregular=result.track.irregularity.type != "none",
         alignment=model.alignment if model.curved else None,
         flange_height_m=_flange_height_m(model),
+        placements=_placements(vehicle, order),
+    )
+
+
+def _placements(vehicle, order: list[int]) -> tuple:
+    """Each measurement point's body and its and the body's distance behind the leading
+    wheelset (m), for the curve-transition comfort."""
+    from railexu.results.transition_comfort import PointPlacement
+
+    lead = vehicle.wheelsets[order[0]].position_x_m if order else 0.0
+    bodies = {b.name: b.position_m[0] for b in vehicle.bodies}
+    return tuple(
+        PointPlacement(p.name, p.body, lead - p.position_m[0], lead - bodies[p.body])
+        for p in vehicle.measurement_points
+        if p.body in bodies
     )
 
 
@@ -173,6 +189,12 @@ def summarize_run(
     if inputs.alignment is not None:
         window = (summary.window.from_m, summary.window.to_m, summary.window.rule)
         facts["curving"] = curving_statistics(timeseries, inputs.alignment, names, window)
+        if inputs.placements:
+            from railexu.results.transition_comfort import curve_transition_comfort
+
+            facts["curve_transitions"] = curve_transition_comfort(
+                timeseries, inputs.alignment, list(inputs.placements)
+            )
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]
