@@ -65,7 +65,8 @@ def sc_columns(
         number ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
         lateral contact position in the profile's axes (NaN where the rail carries no load).
         NaN in every column where the wheelset is outside the zone (its first to last slice,
-        +- the effective section's half-length): there the side's totals (``..._Q_N``) apply.
+        where the model reads the stations' tables): there the side's totals (``..._Q_N``) on
+        the track's plain rail apply.
     """
     if rails is None:
         return {}
@@ -85,7 +86,10 @@ def sc_columns(
         lo, hi = profile.s_range_m
         y_rail = points[:, :, side, :, K.PF_YRAIL] - origin_y
         s_rel = s_ws_m - rails.start_m
-        inside = (s_rel >= lo - rails.x_max_m) & (s_rel <= hi + rails.x_max_m)
+        # where the model reads the stations' tables (model/sc_tables.py: first slice onwards,
+        # every station_step, the last at or before the last slice); the plain rail outside
+        last = lo + max(np.floor((hi - lo) / rails.station_step_m), 1.0) * rails.station_step_m
+        inside = (s_rel >= lo) & (s_rel <= last)
         which = np.zeros((n, n_ws, K.MAX_POINTS), dtype=np.int64)
         for t in range(n):
             for i in range(n_ws):
@@ -120,8 +124,8 @@ def crossing_summary(columns, zone_m: tuple[float, float] | None, n_ws: int) -> 
       50 %, interpolated linearly between outputs (None where it does not);
     - ``Tgamma_max_N``: the largest wear number per rail (rails 1, 2).
 
-    Window: the output times at which the per-rail columns are defined (the wheelset within the
-    zone +- the effective section's half-length: ``window``).
+    Window: the output times at which the per-rail columns are defined (the wheelset between the
+    zone's first and last slice: ``window``).
     """
     if zone_m is None:
         return {}
@@ -129,7 +133,7 @@ def crossing_summary(columns, zone_m: tuple[float, float] | None, n_ws: int) -> 
     names = set(columns.names if hasattr(columns, "names") else columns)
     out: dict[str, object] = {
         "zone_m": [lo, hi],
-        "window": "wheelset within the zone (first to last slice) +- the effective half-length",
+        "window": "wheelset between the zone's first and last slice",
     }
     for i in range(n_ws):
         for side in _SIDES:
