@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
 from matplotlib.figure import Figure
 
 if TYPE_CHECKING:
@@ -17,7 +18,7 @@ _RAILS = ("rail 1 (nose)", "rail 2 (wing rail)")
 
 def sc_sides(ts: TimeSeries) -> list[str]:
     """The ``ws{i}_{side}`` prefixes with outputs per rail (``..._rail1_Q_N``)."""
-    return [n[: -len("_rail1_Q_N")] for n in ts.names if n.endswith("_rail1_Q_N")]
+    return [n[: -len("_in_zone")] for n in ts.names if n.endswith("_in_zone")]
 
 
 def crossing_figure(ts: TimeSeries, zone_m: tuple[float, float], title: str = "") -> Figure:
@@ -30,14 +31,17 @@ def crossing_figure(ts: TimeSeries, zone_m: tuple[float, float], title: str = ""
         ax.axvspan(zone_m[0], zone_m[1], color="0.9", zorder=0, label="S&C zone")
         ax.grid(True, alpha=0.4)
     for prefix in sc_sides(ts):
-        s = ts[prefix.split("_")[0] + "_s_m"]
-        total = ts[f"{prefix}_rail1_Q_N"] + ts[f"{prefix}_rail2_Q_N"]
+        inside = ts[f"{prefix}_in_zone"] > 0.5
+        s = ts[prefix.split("_")[0] + "_s_m"][inside]
+        total = ts[f"{prefix}_rail1_Q_N"][inside] + ts[f"{prefix}_rail2_Q_N"][inside]
         axes[0].plot(s, total * 1e-3, "k-", lw=0.8, label=f"{prefix} sum")
         for r, label in enumerate(_RAILS, start=1):
-            axes[0].plot(s, ts[f"{prefix}_rail{r}_Q_N"] * 1e-3, lw=1.0, label=f"{prefix} {label}")
-            axes[1].plot(s, ts[f"{prefix}_rail{r}_contact_y_m"] * 1e3, ".", ms=2,
+            q = ts[f"{prefix}_rail{r}_Q_N"][inside]
+            y = np.where(q > 0.0, ts[f"{prefix}_rail{r}_contact_y_m"][inside], np.nan)
+            axes[0].plot(s, q * 1e-3, lw=1.0, label=f"{prefix} {label}")
+            axes[1].plot(s, y * 1e3, ".", ms=2, label=f"{prefix} {label}")
+            axes[2].plot(s, ts[f"{prefix}_rail{r}_Tgamma_N"][inside], lw=1.0,
                          label=f"{prefix} {label}")  # fmt: skip
-            axes[2].plot(s, ts[f"{prefix}_rail{r}_Tgamma_N"], lw=1.0, label=f"{prefix} {label}")
     axes[0].set_ylabel("vertical force Q [kN]")
     axes[1].set_ylabel("contact position y [mm]\n(rail axes, field side +)")
     axes[2].set_ylabel("Tgamma [N]")

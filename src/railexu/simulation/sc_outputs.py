@@ -63,10 +63,12 @@ def sc_columns(
         ``ws{i}_{side}_rail{r}_{Q_N, Y_N, Tgamma_N, contact_y_m}`` for ``r`` = 1 (nose), 2 (wing
         rail): the vertical and lateral force of the rail on the wheel (track axes), the wear
         number ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
-        lateral contact position in the profile's axes (NaN where the rail carries no load).
-        NaN in every column where the wheelset is outside the zone (its first to last slice,
-        where the model reads the stations' tables): there the side's totals (``..._Q_N``) on
-        the track's plain rail apply.
+        lateral contact position in the profile's axes (0 where the rail carries no load: read
+        it where ``..._Q_N > 0``); and ``ws{i}_{side}_in_zone``: 1 where the wheelset is in the
+        zone (its first to last slice, where the model reads the stations' tables), 0 outside,
+        where every per-rail column is 0 and the side's totals (``..._Q_N``) on the track's
+        plain rail apply. No NaN: a non-finite value marks a diverged run
+        (:func:`railexu.results.evaluate._finite_rows` ends the summary's window there).
     """
     if rails is None:
         return {}
@@ -102,14 +104,16 @@ def sc_columns(
             tg = np.abs(np.where(on, power[:, :, side], 0.0))
             q_sum = q.sum(axis=-1)
             with np.errstate(invalid="ignore", divide="ignore"):
-                pos = np.where(q_sum > 0.0, (q * y_rail).sum(axis=-1) / q_sum, np.nan)
+                pos = np.where(q_sum > 0.0, (q * y_rail).sum(axis=-1) / q_sum, 0.0)
             for i in range(n_ws):
                 key = f"ws{i + 1}_{_SIDES[side]}_rail{r + 1}"
                 out = inside[:, i]
-                cols[f"{key}_Q_N"] = np.where(out, q_sum[:, i], np.nan)
-                cols[f"{key}_Y_N"] = np.where(out, y.sum(axis=-1)[:, i], np.nan)
-                cols[f"{key}_Tgamma_N"] = np.where(out, tg.sum(axis=-1)[:, i], np.nan)
-                cols[f"{key}_contact_y_m"] = np.where(out, pos[:, i], np.nan)
+                cols[f"{key}_Q_N"] = np.where(out, q_sum[:, i], 0.0)
+                cols[f"{key}_Y_N"] = np.where(out, y.sum(axis=-1)[:, i], 0.0)
+                cols[f"{key}_Tgamma_N"] = np.where(out, tg.sum(axis=-1)[:, i], 0.0)
+                cols[f"{key}_contact_y_m"] = np.where(out & (q_sum[:, i] > 0.0), pos[:, i], 0.0)
+        for i in range(n_ws):
+            cols[f"ws{i + 1}_{_SIDES[side]}_in_zone"] = inside[:, i].astype(float)
     return cols
 
 
@@ -138,10 +142,10 @@ def crossing_summary(columns, zone_m: tuple[float, float] | None, n_ws: int) -> 
     for i in range(n_ws):
         for side in _SIDES:
             key = f"ws{i + 1}_{side}"
-            if f"{key}_rail1_Q_N" not in names:
+            if f"{key}_in_zone" not in names:
                 continue
             s = np.asarray(columns[f"ws{i + 1}_s_m"])
-            win = np.isfinite(np.asarray(columns[f"{key}_rail1_Q_N"]))
+            win = np.asarray(columns[f"{key}_in_zone"]) > 0.5
             if not np.any(win):
                 continue
             q = np.stack([np.asarray(columns[f"{key}_rail{r + 1}_Q_N"])[win] for r in range(2)])
