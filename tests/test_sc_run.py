@@ -86,3 +86,66 @@ def test_wheelset_through_the_facing_crossing(facing):
     summary = result.summary["switches_crossings"]["ws1_left"]
     assert summary["max_Q_rail"] == 2 and lo <= summary["max_Q_at_m"] <= hi
     assert summary["transfer_at_m"] is None
+
+
+def test_quasi_static_transfer_onto_the_nose(facing):
+    """The EU07 wheel (r0 = 625 mm, S1002) 4 mm to the field side, pressed with 98.1 kN by the
+    compiled kernel on the zone's effective sections, moved from s = 130 to 150 mm: the load
+    passes from the wing rail (rail 2) to the nose (rail 1), attributed by
+    :func:`rail_index`. Checks: the nose's share rises monotonically from 0 to 1; the wheel's
+    height changes per step as the higher of the rigid wheel's touch heights on the two rails
+    within the Hertz approach at 98 kN (~ 0.1 mm, measured on the wing rail alone: the most
+    that sharing the load between two patches can change; no jump);
+    the 50 % point lies within 5 mm of where the rigid wheel touches both rails at once (from
+    the touch heights alone: the nose's rises past the wing rail's). 5 mm: the touch heights
+    part at ~ 1:25 and the approach is ~ 0.1 mm, so the rails share load over ~ 3 mm of track.
+    A centred wheel stays on the wing rail throughout slices 41-60 (the dynamic run above)."""
+    from scipy.optimize import brentq
+
+    from railexu.contact import kernel as K
+    from railexu.contact.evaluation import WheelsetContactModel
+    from railexu.contact.variable_tables import section_rail_arrays
+    from railexu.model.assembly import wheelset_geometry
+
+    rails = facing.variable_rails
+    geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], facing)
+    model = WheelsetContactModel(geometry)
+    r0, lateral, load = geometry.left.nominal_radius_m, 0.004, 98.1e3
+
+    def per_rail(s, h):
+        raw = model.evaluate(lateral, h).raw[0]
+        f = np.zeros(2)
+        for p in raw:
+            if p[K.PF_ACTIVE] > 0 and p[K.PF_N] > 0:
+                y = np.array([p[K.PF_YRAIL] - rails.rail_origin_m[0]])
+                f[rail_index(rails.left, s, y)[0]] += p[K.PF_FTZ]
+        return f
+
+    def height(f, target):
+        return brentq(lambda h: f(h) - target, r0 - 0.003, r0 + 0.003, xtol=1e-10)
+
+    s_grid = np.arange(0.130, 0.1501, 0.0025)
+    share, pressed, touch = [], [], []
+    for s in s_grid:
+        model.rtab_l, model.rinfo_l = section_rail_arrays(
+            rails.left, s, geometry.left, rail_origin_m=rails.rail_origin_m, x_max_m=rails.x_max_m
+        )
+        h = height(lambda hh, s=s: per_rail(s, hh).sum(), load)
+        f = per_rail(s, h)
+        assert f.sum() == pytest.approx(load, rel=1e-3)
+        share.append(f[0] / f.sum())
+        pressed.append(h)
+        # rigid touch height of each rail: where it carries 1 N (approach ~ 0.1 um)
+        touch.append([height(lambda hh, s=s, k=k: per_rail(s, hh)[k], 1.0) for k in range(2)])
+    share, pressed, touch = np.array(share), np.array(pressed), np.array(touch)
+    assert share[0] < 0.02 and share[-1] > 0.98
+    assert np.all(np.diff(share) >= -1e-3)
+    # no jump: per step the pressed wheel follows the rigid wheel within the elastic approach
+    # at the full load (the most the sharing between two patches can change; 0.10 mm here)
+    approach = touch[0].max() - pressed[0]
+    assert 5e-5 < approach < 2e-4
+    assert np.max(np.abs(np.diff(pressed) - np.diff(touch.max(axis=1)))) < approach
+    gap = touch[:, 0] - touch[:, 1]  # nose above the wing rail where > 0
+    s_star = np.interp(0.0, gap, s_grid)
+    assert np.all(np.diff(gap) > 0.0)
+    assert np.interp(0.5, share, s_grid) == pytest.approx(s_star, abs=5e-3)
