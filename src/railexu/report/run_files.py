@@ -126,6 +126,9 @@ def _figure_jobs(
         builders["curving"] = partial(_curving_figure, ts, alignment, title)
     if "track_elevation_m" in ts.columns:
         builders["track_vertical"] = partial(_vertical_figure, ts, result.track.name)
+    rails = getattr(result.track, "variable_rails", None)
+    if rails is not None:
+        builders["crossing"] = partial(_crossing_figure, ts, rails.zone_m(), title)
     jobs = []
     for name, build in builders.items():
         for fmt in formats:
@@ -171,6 +174,12 @@ def _curving_figure(ts, alignment, title: str):
     from railexu.report.curving_figures import curving_figure
 
     return curving_figure(ts, alignment, title)
+
+
+def _crossing_figure(ts, zone_m, title: str):
+    from railexu.report.sc_figures import crossing_figure
+
+    return crossing_figure(ts, zone_m, title)
 
 
 def _save(stem: Path, build: Callable, formats: tuple[str, ...]) -> None:

@@ -38,7 +38,7 @@ __all__ = ["RunResult", "RunSettings", "print_progress", "run"]
 
 #: The facts of the run that the summary carries after the assessment, in this order.
 _FACTS = ("timings_s", "solver", "settings", "vehicle", "track", "curving", "warnings",
-          "longitudinal", "curve_transitions")  # fmt: skip
+          "longitudinal", "curve_transitions", "switches_crossings")  # fmt: skip
 
 
 def run(
@@ -111,12 +111,14 @@ class AssessmentInputs:
     alignment: Alignment | None  # curved track only
     flange_height_m: float | None = None  # flange tip above the tape circle (first wheel)
     placements: tuple = ()  # measurement points (results.transition_comfort.PointPlacement)
+    sc_zone_m: tuple[float, float] | None = None  # a switch-and-crossing zone (issue 29)
 
 
 def assessment_inputs(result: RunResult) -> AssessmentInputs:
     """The :class:`AssessmentInputs` of a simulated run."""
     model, vehicle, settings = result.model, result.vehicle, result.settings
     order = wheelset_order(vehicle)
+    rails = getattr(result.track, "variable_rails", None)
     return AssessmentInputs(
         wheelset_names=[vehicle.wheelsets[i].name for i in order],
         speed_m_per_s=settings.speed_m_per_s,
@@ -130,6 +132,7 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         alignment=model.alignment if model.curved else None,
         flange_height_m=_flange_height_m(model),
         placements=_placements(vehicle, order),
+        sc_zone_m=None if rails is None else rails.zone_m(),
     )
 
 
@@ -195,6 +198,10 @@ def summarize_run(
             facts["curve_transitions"] = curve_transition_comfort(
                 timeseries, inputs.alignment, list(inputs.placements)
             )
+    if inputs.sc_zone_m is not None:
+        from railexu.simulation.sc_outputs import crossing_summary
+
+        facts["switches_crossings"] = crossing_summary(timeseries, inputs.sc_zone_m, len(names))
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]

@@ -11,6 +11,7 @@ import math
 from railexu.contact.standard_gauge import STANDARD_GAUGE_M
 from railexu.inputs import OPTIONAL, REQUIRED, Field, Schema
 from railexu.track.irregularities import COMPONENTS, available_spectra
+from railexu.track.variable_rails_schema import VARIABLE_RAILS
 from railexu.track.vertical_schema import VERTICAL
 
 FORMAT_VERSION = 1
@@ -160,6 +161,8 @@ TRACK = Schema(
               default={"type": "rigid"}, models=TRACK_MODEL, selector="type"),
         Field("irregularities", "irregularities by `type`, their parameters nested", "model",
               default={"type": "none"}, models=IRREGULARITIES, selector="type"),
+        Field("variable_rails", "a switch or crossing: rails that vary along a zone, by `type`",
+              "model", default={"type": "none"}, models=VARIABLE_RAILS, selector="type"),
     ),
     "The top level of a track file.",
 )  # fmt: skip
@@ -174,6 +177,7 @@ DOC_TABLES = (
     ("`track_model` with `type: elastic`", TRACK_MODEL["elastic"]),
     ("`irregularities` with `type: spectrum`", IRREGULARITIES["spectrum"]),
     ("`irregularities` with `type: measured`", IRREGULARITIES["measured"]),
+    ("`variable_rails` with `type: slices`", VARIABLE_RAILS["slices"]),
 )
 
 

@@ -41,6 +41,7 @@ from railexu.track.irregularities import (
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
 from railexu.track.variable_rails import VariableRails
+from railexu.track.variable_rails_file import variable_rails_from_dict
 from railexu.track.vertical import VerticalAlignment, vertical_from_dict
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
@@ -153,6 +154,11 @@ def track_from_dict(
     geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
     elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
     vertical = vertical_from_dict(top.data.get("vertical"), source, top.lines, base_dir)
+    start_m = TRACK.read(top, "start")
+    end_m = alignment.end_m if alignment.end_m > 0.0 else None  # None: unbounded straight
+    rails = variable_rails_from_dict(
+        top.data.get("variable_rails"), source, top.lines, base_dir, end_m, start_m
+    )
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -173,7 +179,8 @@ def track_from_dict(
         alignment=alignment,
         elastic=elastic,
         vertical=vertical,
-        start_m=TRACK.read(top, "start"),
+        start_m=start_m,
+        variable_rails=rails,
     )
 
 

@@ -5,8 +5,8 @@
 curve or several rails per side) and where its ``s = 0`` lies on the track. Inside the zone the
 dynamics reads kernel rail tables of the profile at stations every ``station_step_m``, blended
 linearly between stations (:mod:`railexu.model.forces`); outside it the track's rail profile as
-on plain track. Given from Python (``Track(..., variable_rails=VariableRails(...))``); the track
-file has no key for it yet.
+on plain track. Given from Python (``Track(..., variable_rails=VariableRails(...))``) or by a
+track file's ``variable_rails:`` section (:mod:`railexu.track.variable_rails_file`).
 """
 
 from __future__ import annotations
