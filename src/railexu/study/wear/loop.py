@@ -48,6 +48,7 @@ from railexu.profiles import wheel_profile
 from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
     flange_measures,
+    profile_check,
     removed_area,
     smooth_depth,
     worn_profile,
@@ -280,6 +281,10 @@ def wear_loop(
     result = WearLoopResult(out=out)
     mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
+    # the new profiles and the depth removed since: every worn profile is the new one minus the
+    # cumulated depth (the re-read points' errors do not accumulate over the steps)
+    original = dict(current)
+    total: dict[str, np.ndarray] = {}
     row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
@@ -313,6 +318,7 @@ def wear_loop(
                 result.steps.pop()
                 step -= 1
                 profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
+                total = last["total"]
                 rates, depth_limit = last["rates"], 0.5 * last["depth"]
                 rejected += 1
                 log(f"step {step + 1} made again with half the depth "
@@ -329,16 +335,20 @@ def wear_loop(
         dl = depth_limit / rates["peak"] if step_rule == "max_depth" else float(step_km)
         dl = min(dl, mileage_km - mileage)
         last = {"profiles": dict(profiles), "current": dict(current), "mileage": mileage,
-                "rates": rates, "depth": dl * rates["peak"]}  # fmt: skip
+                "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
         step += 1
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
                "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected}  # fmt: skip
-        new = {}
+        new, total = {}, dict(total)
         for key, _, _ in keys:
             worn = rates["smooth"][key] * dl
+            total[key] = total.get(key, 0.0) + worn
             path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
-            new[key] = worn_profile(current[key], rates["y"], worn, path,
+            new[key] = worn_profile(original[key], rates["y"], total[key], path,
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
+            check = profile_check(new[key], original[key])
+            row[f"{key}_flange_monotone"] = int(check["flange_monotone"])
+            row[f"{key}_max_curvature_change_1_per_m"] = check["max_curvature_change_1_per_m"]
             area = removed_area(current[key], new[key])
             expected = rates["vol"][key] * dl
             row[f"{key}_area_mm2"] = area * 1e6
@@ -354,6 +364,14 @@ def wear_loop(
             f"{max(row[f'{k}_max_depth_mm'] for k, _, _ in keys):.4f} mm")  # fmt: skip
         _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                      False, "")  # fmt: skip
+        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]]
+        if folded:
+            reason = (
+                f"at {mileage:.6g} km the worn flange of {', '.join(folded)} is no longer "
+                "monotone (the radius does not fall from the flange tip to the tape circle)"
+            )
+            log(reason)
+            break
     result.complete = not reason
     result.reason = reason
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
