@@ -243,3 +243,31 @@ def test_worn_profile_curvature_bounded_and_flange_monotone(tmp_path):
     groove = 2e-4 * np.exp(-0.5 * ((y + 0.027) / 3e-4) ** 2)  # slope 0.4 > |F'| = 0.25 there
     p2 = worn_profile(p0, y, groove, tmp_path / "g.txt")
     assert not profile_check(p2, p0)["flange_monotone"]
+
+
+def test_diverged_case_is_run_again_with_half_the_step(tmp_path, monkeypatch):
+    """A case that diverges is run again with half the integration step (docs/wear.md: the
+    wagon on worn flange roots diverged with 2 ms and completed with 0.5 ms); the step used is
+    kept with the case. Here the run at the default 2 ms is marked diverged."""
+    import dataclasses
+
+    import railexu.results.run as run_module
+    from railexu.study.wear import loop
+    from railexu.vehicle.vehicle import load_vehicle
+
+    real = run_module.run
+
+    def fake(vehicle, track, settings, *a, **k):
+        result = real(vehicle, track, settings, *a, **k)
+        if settings.time_step_s >= 2e-3:
+            return dataclasses.replace(result, status={**result.status, "state": "diverged"})
+        return result
+
+    monkeypatch.setattr(run_module, "run", fake)
+    route = load_route(_route(tmp_path, ROUTE))
+    case = route.cases[0]
+    track = case.write_track(route, tmp_path / "tracks")
+    out = loop._run_case(
+        (load_vehicle("wheelset"), str(track), case, "archard_jendel", 0.0, route.gauge_m)
+    )
+    assert out["status"] == "completed" and out["time_step_s"] == pytest.approx(1e-3)
