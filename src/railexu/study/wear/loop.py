@@ -7,14 +7,17 @@ One step:
    profiles (``contact_outputs`` on) and worn by the chosen law over its evaluation window
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
    cases run on local worker processes (a study's: :mod:`railexu.study.worker`, forked from
-   the fork server of :mod:`railexu.runtime.fork_server`), each case's result is kept in
+   the fork server of :mod:`railexu.runtime.fork_server`); a case that diverges is run again
+   with half the integration step down to :data:`MIN_TIME_STEP_S`; each case's result is kept in
    ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
 3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
    wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
    per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
-   times ``dL`` is taken off each wheel's profile; the profiles are written to
+   times ``dL`` is added to the depth cumulated since the start, which is taken off each
+   wheel's *new* profile (checked by :func:`~.profiles.profile_check`: a flange that is no
+   longer monotone stops the loop); the profiles are written to
    ``step_NNN/profiles/`` and read back, so that the contact tables of the next step are built
    from those files;
 5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
