@@ -7,14 +7,17 @@ One step:
    profiles (``contact_outputs`` on) and worn by the chosen law over its evaluation window
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
    cases run on local worker processes (a study's: :mod:`railexu.study.worker`, forked from
-   the fork server of :mod:`railexu.runtime.fork_server`), each case's result is kept in
+   the fork server of :mod:`railexu.runtime.fork_server`); a case that diverges is run again
+   with half the integration step down to :data:`MIN_TIME_STEP_S`; each case's result is kept in
    ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
 3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
    wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
    per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
-   times ``dL`` is taken off each wheel's profile; the profiles are written to
+   times ``dL`` is added to the depth cumulated since the start, which is taken off each
+   wheel's *new* profile (checked by :func:`~.profiles.profile_check`: a flange that is no
+   longer monotone stops the loop); the profiles are written to
    ``step_NNN/profiles/`` and read back, so that the contact tables of the next step are built
    from those files;
 5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
@@ -48,6 +51,7 @@ from railexu.profiles import wheel_profile
 from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
     flange_measures,
+    profile_check,
     removed_area,
     smooth_depth,
     worn_profile,
@@ -62,6 +66,10 @@ STEP_RULES = ("max_depth", "fixed")
 RATE_TOLERANCE = 1.5
 #: the smallest step depth the rate control halves to is max_depth / MAX_HALVINGS
 MAX_HALVINGS = 64
+#: a case that diverges is run again with half the integration step, down to this step [s]
+#: (docs/wear.md, "Worn profiles that diverge": the contact sweeping across a worn flange root
+#: needs 0.5 ms where the new profiles run with railexu's 2 ms)
+MIN_TIME_STEP_S = 2.5e-4
 #: the conicity amplitude (EN 15302: y = 3 mm) [m]
 CONICITY_AMPLITUDE_M = 0.003
 _SIDES = ("left", "right")
@@ -120,12 +128,20 @@ def _run_case(args) -> dict:
     )  # fmt: skip
     t0 = time.perf_counter()
     result = run(vehicle, track, settings)
+    # diverged: the same case with half the step (MIN_TIME_STEP_S at the least)
+    while result.status.get("state") == "diverged" and settings.time_step_s > MIN_TIME_STEP_S:
+        dt = max(MIN_TIME_STEP_S, 0.5 * settings.time_step_s)
+        settings = dataclasses.replace(
+            settings, time_step_s=dt, output_interval_s=settings.output_interval_s or 0.005
+        )
+        result = run(vehicle, track, settings)
     wears = run_wear(
         result.timeseries, vehicle, law, evaluate_from_m=case.evaluate_from_m, gauge_m=gauge_m
     )
     out: dict = {
         "status": result.status.get("state", ""),
         "wall_s": time.perf_counter() - t0,
+        "time_step_s": settings.time_step_s,
         "grid": np.array(WHEEL_GRID),
         "rail_grid": wears[0].rail_lateral_m,
     }
@@ -280,6 +296,10 @@ def wear_loop(
     result = WearLoopResult(out=out)
     mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
+    # the new profiles and the depth removed since: every worn profile is the new one minus the
+    # cumulated depth (the re-read points' errors do not accumulate over the steps)
+    original = dict(current)
+    total: dict[str, np.ndarray] = {}
     row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
@@ -313,6 +333,7 @@ def wear_loop(
                 result.steps.pop()
                 step -= 1
                 profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
+                total = last["total"]
                 rates, depth_limit = last["rates"], 0.5 * last["depth"]
                 rejected += 1
                 log(f"step {step + 1} made again with half the depth "
@@ -329,16 +350,21 @@ def wear_loop(
         dl = depth_limit / rates["peak"] if step_rule == "max_depth" else float(step_km)
         dl = min(dl, mileage_km - mileage)
         last = {"profiles": dict(profiles), "current": dict(current), "mileage": mileage,
-                "rates": rates, "depth": dl * rates["peak"]}  # fmt: skip
+                "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
         step += 1
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
-               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected}  # fmt: skip
-        new = {}
+               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected,
+               "min_time_step_ms": rates["min_time_step_s"] * 1e3}  # fmt: skip
+        new, total = {}, dict(total)
         for key, _, _ in keys:
             worn = rates["smooth"][key] * dl
+            total[key] = total.get(key, 0.0) + worn
             path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
-            new[key] = worn_profile(current[key], rates["y"], worn, path,
+            new[key] = worn_profile(original[key], rates["y"], total[key], path,
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
+            check = profile_check(new[key], original[key])
+            row[f"{key}_flange_monotone"] = int(check["flange_monotone"])
+            row[f"{key}_max_curvature_change_1_per_m"] = check["max_curvature_change_1_per_m"]
             area = removed_area(current[key], new[key])
             expected = rates["vol"][key] * dl
             row[f"{key}_area_mm2"] = area * 1e6
@@ -354,6 +380,14 @@ def wear_loop(
             f"{max(row[f'{k}_max_depth_mm'] for k, _, _ in keys):.4f} mm")  # fmt: skip
         _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                      False, "")  # fmt: skip
+        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]]
+        if folded:
+            reason = (
+                f"at {mileage:.6g} km the worn flange of {', '.join(folded)} is no longer "
+                "monotone (the radius does not fall from the flange tip to the tape circle)"
+            )
+            log(reason)
+            break
     result.complete = not reason
     result.reason = reason
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
@@ -369,6 +403,7 @@ def _route_rates(vehicle, profiles, route, out, step, law, workers, initial_late
     cases = _run_cases(veh, route, out, step, law, workers, initial_lateral_m, log)
     bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
            if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
+    steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
     grid = np.asarray(next(iter(cases.values()))["grid"])
     depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
              for k, _, _ in keys}  # fmt: skip
@@ -380,6 +415,7 @@ def _route_rates(vehicle, profiles, route, out, step, law, workers, initial_late
         "vol": vol,
         "peak": max(float(d.max()) for d in smooth.values()),
         "bad": bad,
+        "min_time_step_s": min(steps) if steps else math.nan,
         "y": grid[0] + grid[1] * np.arange(int(grid[2])),
     }
 
