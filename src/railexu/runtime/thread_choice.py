@@ -11,12 +11,14 @@ Which is faster depends on the load *now*, so the choice is measured, not guesse
   time per call is measured (the force function's results are the same to the last bit either
   way, :func:`railexu.model.forces.generalized_forces_threaded`, so switching changes no number);
 - from time to time one window is run with the **other** function (a probe); the run switches
-  to it when it was faster than the current one's last window by more than :data:`MARGIN`;
+  to it when :data:`CONFIRMATIONS` probes in a row, each after one window of the current
+  function, were faster than that window by more than :data:`MARGIN` (one faster window may be
+  a cheaper stretch of the run);
 - a probe is started only when the wall time since the last probe is at least
   ``1 / PROBE_SHARE`` times that probe's own duration, so that probing costs at most
   :data:`PROBE_SHARE` of the run's wall time even when the other function is very slow;
 - the first probe comes right after the first threaded window, so that a run started on a
-  busy machine leaves the threads after one window.
+  busy machine leaves the threads after a few windows.
 """
 
 from __future__ import annotations
@@ -25,11 +27,13 @@ import time
 from collections.abc import Callable
 
 #: force-function calls per measured window (a few milliseconds idle)
-WINDOW_CALLS = 32
+WINDOW_CALLS = 64
 #: the other function must take less than this share of the current one's time per call
 MARGIN = 0.9
+#: consecutive probes, each after one window of the current function, that must win to switch
+CONFIRMATIONS = 2
 #: the largest share of the run's wall time that probing the other function may cost
-PROBE_SHARE = 0.05
+PROBE_SHARE = 0.02
 
 SERIAL, THREADED = 0, 1
 
@@ -51,6 +55,7 @@ class ThreadChoice:
         self.mode = THREADED
         self.current = threaded
         self._probing = False
+        self._wins = 0
         self._probe_start = 0.0
         self._next_probe_at = clock()
         self._last_s_per_call: list[float | None] = [None, None]
@@ -69,11 +74,19 @@ class ThreadChoice:
             self._probing = False
             before = self._last_s_per_call[self.mode]
             self._last_s_per_call[used] = per_call
-            if before is not None and per_call < MARGIN * before:
+            won = before is not None and per_call < MARGIN * before
+            self._wins = self._wins + 1 if won else 0
+            if self._wins >= CONFIRMATIONS:
                 self.mode = used
                 self.switches += 1
-            probe_s = max(now - self._probe_start, 0.0)
-            self._next_probe_at = now + probe_s / PROBE_SHARE
+                self._wins = 0
+            if self._wins:
+                # one win may be noise (a costlier stretch of the run): probe again after one
+                # window of the current function
+                self._next_probe_at = now
+            else:
+                probe_s = max(now - self._probe_start, 0.0)
+                self._next_probe_at = now + probe_s / PROBE_SHARE
         else:
             self._last_s_per_call[self.mode] = per_call
             if now >= self._next_probe_at:
