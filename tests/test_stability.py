@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from wickens import add_wheelset
 
 from railexu.cli import main
 from railexu.contact.hertz import hertz_contact
@@ -88,18 +89,7 @@ def _textbook_bogie_critical_speed(vehicle, gamma_e: float) -> float:
         k = np.zeros((n, n))
         c = np.zeros((n, n))
         for i, x in enumerate((a, -a)):
-            iy, ip = 2 * i, 2 * i + 1
-            c[iy, iy] += 2 * f22 * (1 + gamma_e * r0 / e0) / v
-            k[iy, ip] -= 2 * f22
-            c[ip, ip] += 2 * f11 * e0**2 / v
-            k[ip, iy] += 2 * f11 * e0 * gamma_e / r0
-            c[ip, iy] += i_spin * v / r0 * gamma_e / e0
-            t = np.zeros(n)
-            t[[iy, 4, 5]] = (1.0, -1.0, -x)
-            k += 2 * ky * np.outer(t, t)
-            t = np.zeros(n)
-            t[[ip, 5]] = (1.0, -1.0)
-            k += 2 * kx * b * b * np.outer(t, t)
+            add_wheelset(c, k, i, x, v, gamma_e, (f11, f22), (r0, e0), i_spin, (kx, ky, b))
         first = np.block([[np.zeros((n, n)), np.eye(n)],
                           [-np.linalg.solve(m, k), -np.linalg.solve(m, c)]])  # fmt: skip
         lam = [e for e in np.linalg.eigvals(first) if e.imag > 1e-3]

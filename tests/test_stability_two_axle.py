@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from wickens import add_wheelset
 
 from railexu.contact.hertz import hertz_contact
 from railexu.contact.kalker import kalker_coefficients
@@ -126,21 +127,9 @@ def textbook_matrices(vehicle, speed: float, conicity: float):
     m = np.diag([mw, iw, mw, iw, body.mass_kg, body.inertia_kg_m2[2]])
     c = np.zeros((n, n))
     k = np.zeros((n, n))
-    lam, v = conicity, speed
     for i, w in enumerate(ws):
-        x = w.position_x_m
-        iy, ip = 2 * i, 2 * i + 1
-        c[iy, iy] += 2 * f22 * (1 + lam * R0_M / E0_M) / v
-        k[iy, ip] -= 2 * f22
-        c[ip, ip] += 2 * f11 * E0_M**2 / v
-        k[ip, iy] += 2 * f11 * E0_M * lam / R0_M
-        c[ip, iy] += i_spin * v / R0_M * lam / E0_M
-        t = np.zeros(n)
-        t[[iy, 4, 5]] = (1.0, -1.0, -x)
-        k += 2 * ky * np.outer(t, t)
-        t = np.zeros(n)
-        t[[ip, 5]] = (1.0, -1.0)
-        k += 2 * kx * b * b * np.outer(t, t)
+        add_wheelset(c, k, i, w.position_x_m, speed, conicity, (f11, f22), (R0_M, E0_M),
+                     i_spin, (kx, ky, b))  # fmt: skip
     return m, c, k
 
 
