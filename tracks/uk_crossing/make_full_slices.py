@@ -28,7 +28,8 @@ none, so each slice is split here into its rails and each rail gets the same kin
    first point from the start at ``CORNER_DEPTH_M`` below its top (it moves with the rail: the
    wing rail's gauge face leaving at ~1:11, the rising nose's tip); its **crown edge** and
    **field corner**, the first points after the gauge corner where the rail falls steeper than
-   ``CROWN_SLOPE`` and ``FIELD_SLOPE`` (the rounding of the top's field edge); before the crown
+   ``CROWN_SLOPE`` and ``FIELD_SLOPE`` (the rounding of the top's field edge; the field corner
+   at most ``FIELD_WINDOW_M`` beyond the crown edge); before the crown
    edge the **band end**, ``BAND_WIDTH_M`` beyond the gauge corner (on a wide nose or wing rail
    the running band between the gauge corner and the band end has a constant width, so that its
    points correspond by their lateral distance from the gauge corner; on a narrow one the band
@@ -71,10 +72,13 @@ FOOT_DEPTH_M = 0.018
 FIELD_SLOPE = 0.5
 #: Slope beyond which the top has turned into the rounding of its field edge [-].
 CROWN_SLOPE = 0.1
+#: Largest lateral distance from the crown edge to the field corner (a field edge that flattens
+#: out along the track keeps its corner near the crown edge) [m].
+FIELD_WINDOW_M = 0.005
 #: Lateral width of the field flank below the field corner, kept as one part [m].
 FLANK_WIDTH_M = 0.003
 #: Largest lateral width of the part between the corners (the running band) [m].
-BAND_WIDTH_M = 0.070
+BAND_WIDTH_M = 0.055
 #: Depth to which the check rail's and the stock rail's flanks are continued [m].
 CHECK_FLANGEWAY_DEPTH_M = 0.060
 #: The crossing's slices used: the plain rail before (slice 4) to the plain rail after (145).
@@ -103,8 +107,10 @@ def rail_features(y, z, a, i0, i1) -> list[float]:
     g = i0 + _rise(z[i0 : i1 + 1], top + CORNER_DEPTH_M)
     slope = np.diff(z[g : i1 + 1]) / np.diff(y[g : i1 + 1])
     y_end = y[i1] - 0.001
-    y_field = min(_first_beyond(slope, FIELD_SLOPE, y, g, y[i1]), y_end - 0.002)
-    y_crown = min(_first_beyond(slope, CROWN_SLOPE, y, g, y[i1]), y_field - 0.0005)
+    y_crown = min(_first_beyond(slope, CROWN_SLOPE, y, g, y[i1]), y_end - 0.0025)
+    y_field = _first_beyond(slope, FIELD_SLOPE, y, g, y[i1])
+    y_field = min(y_field, y_crown + FIELD_WINDOW_M, y_end - 0.002)
+    y_crown = min(y_crown, y_field - 0.0005)
     y_band = min(y[g] + BAND_WIDTH_M, y_crown - 0.0005)
     y_flank = min(y_field + FLANK_WIDTH_M, y_end)
     at = np.interp([y_band, y_crown, y_field, y_flank], y[i0 : i1 + 1], a[i0 : i1 + 1])
@@ -218,6 +224,25 @@ def write_check_rail(path: Path, folder: Path) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+def write_plain_rail(path: Path) -> None:
+    """The crossing's plain rail (``Crossing_1.txt``, the same points as slices 2-4, 145-148
+    and every ``OppositeStockRail``) as a railexu rail profile: the track's rail outside the
+    zone, so that the zone begins and ends on the rail the track carries (no step)."""
+    points = np.loadtxt(DATA / "Crossing_1.txt")
+    for k in (4, 145):
+        if not np.array_equal(np.loadtxt(DATA / f"Crossing_{k}.txt"), points):
+            raise ValueError(f"Crossing_{k}.txt differs from the plain rail Crossing_1.txt")
+    header = (
+        "railexu profile: rail, unit = m, lateral = outwards, height = down, canted = none\n"
+        "The plain rail 56E1 of the UK crossing 56E1-R245-1:9.25 (S&C benchmark): CONTACT's\n"
+        "testbank/profiles/uk_crossing/Crossing_1.txt (E.A.H. Vollebregt, eve70a/CONTACT,\n"
+        "Apache-2.0), y field side positive, z down [m]; vertical (not inclined) as UK 56E1 S&C.\n"
+        "Written by make_full_slices.py."
+    )
+    np.savetxt(path, points, fmt="%.10e", header=header)
+
+
 if __name__ == "__main__":
+    write_plain_rail(HERE / "uk_56e1_plain.txt")
     write_crossing(HERE / "uk_crossing_full.yaml")
     write_check_rail(HERE / "check_rail_thr.yaml", HERE / "check_rail_thr")
