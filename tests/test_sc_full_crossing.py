@@ -13,6 +13,7 @@ eve70a/CONTACT, Apache-2.0 (tracks/uk_crossing/README.md).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,10 @@ import pytest
 from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
+from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.slices import ProfileSlices
+from railexu.results.run import RunSettings, run
+from railexu.track.variable_rails import VariableRails
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
@@ -113,3 +118,142 @@ def test_the_zone_ends_on_the_plain_rail(facing, geometry, s_m):
         y = [max(plain.evaluate(lateral, h_plain).raw[0], key=lambda p: p[K.PF_N])[K.PF_YRAIL],
              max(zone.evaluate(lateral, h_zone).raw[0], key=lambda p: p[K.PF_N])[K.PF_YRAIL]]  # fmt: skip
         assert y[1] == pytest.approx(y[0], abs=5e-4)
+
+
+def _per_rail(model, rails, geometry, s_m, lateral, height):
+    """Vertical force [N] of nose (0) and wing rail (1) on the left wheel, by rail_index."""
+    f = np.zeros(2)
+    for p in model.evaluate(lateral, height).raw[0]:
+        if p[K.PF_ACTIVE] > 0 and p[K.PF_N] > 0:
+            y = np.array([p[K.PF_YRAIL] - geometry.left.rail_origin_track_m[0]])
+            f[rail_index(rails.left, s_m, y)[0]] += p[K.PF_FTZ]
+    return f
+
+
+def _touch_and_pressed(facing, geometry, s_grid, lateral=0.0):
+    """Per position: the rigid wheel's touch height on each rail (where it carries 1 N: the
+    approach at 1 N is ~0.1 um, the geometry alone), the height pressed with the static load,
+    and the two rails' forces there (the compiled kernel on the effective sections)."""
+    rails = facing.variable_rails
+    model = WheelsetContactModel(geometry)
+    r0 = geometry.left.nominal_radius_m
+    touch, pressed, forces = [], [], []
+    for s in s_grid:
+        model.rtab_l, model.rinfo_l = section_rail_arrays(
+            rails.left, s, geometry.left, x_max_m=rails.x_max_m
+        )
+
+        def height(k, target, s=s):
+            def f(h):
+                v = _per_rail(model, rails, geometry, s, lateral, h)
+                return (v.sum() if k is None else v[k]) - target
+
+            try:
+                return brentq(f, r0 - 0.005, r0 + 0.005, xtol=1e-11)
+            except ValueError:  # the rail lies below the other one's reach: no touch
+                return np.nan
+
+        h = height(None, WHEEL_LOAD_N)
+        pressed.append(h)
+        forces.append(_per_rail(model, rails, geometry, s, lateral, h))
+        touch.append([height(0, 1.0), height(1, 1.0)])
+    return np.array(touch), np.array(pressed), np.array(forces)
+
+
+@pytest.fixture(scope="module")
+def sweep(facing, geometry):
+    s_grid = np.arange(0.240, 0.3201, 0.005)
+    return (s_grid, *_touch_and_pressed(facing, geometry, s_grid))
+
+
+def test_quasi_static_transfer_from_wing_rail_to_nose(sweep):
+    """The centred EU07 wheel (r0 = 625 mm, S1002) pressed with 98.1 kN, moved along the whole
+    crossing from s = 240 to 320 mm: the two rails' vertical forces sum to the wheel load (0.1 %,
+    which the pressing imposes); the nose's share rises monotonically from 0 to 1; its 50 %
+    point lies within 2 mm of the point where the rigid wheel touches both rails at once, from
+    the touch heights alone (the nose's rises past the wing rail's at ~17 mm per metre apart,
+    and the Hertz approach is ~0.15 mm: the rails share the load over ~9 mm, symmetric about
+    that point to first order); the pressed wheel follows the higher touch height within the
+    approach (no jump)."""
+    s_grid, touch, pressed, forces = sweep
+    assert np.allclose(forces.sum(axis=1), WHEEL_LOAD_N, rtol=1e-3)
+    share = forces[:, 0] / forces.sum(axis=1)
+    assert share[0] < 0.01 and share[-1] > 0.99
+    assert np.all(np.diff(share) >= -1e-3)
+    gap = touch[:, 0] - touch[:, 1]  # nose above the wing rail where > 0
+    assert np.all(np.diff(gap) > 0.0)
+    s_star = np.interp(0.0, gap, s_grid)
+    assert np.interp(0.5, share, s_grid) == pytest.approx(s_star, abs=2e-3)
+    approach = np.nanmax(touch, axis=1) - pressed
+    assert np.all((approach > 0.0) & (approach < 2e-4))
+
+
+#: The wheelset (vehicles/wheelset.yaml): mass [kg], roll inertia [kg m^2].
+WHEELSET_MASS_KG, WHEELSET_ROLL_KG_M2 = 4250.0, 1500.0
+
+
+def _run_over_the_crossing(facing, time_step_s):
+    """The wheelset at 10 m/s, centred, from plain rail over the crossing's slices 4-85 (s up
+    to 0.623 m: the wing rail, the nose's start and the landing on it), on the left rail."""
+    rails = facing.variable_rails
+    full = rails.left.slices
+    n = 85 - 4 + 1
+    sub = ProfileSlices(full.source, full.positions_m[:n], full.points_m[:n],
+                        full.features_m[:n], full.lines[:n], full.names[:n])  # fmt: skip
+    start = 3.0
+    zone = VariableRails(left=VariableProfile(sub), start_m=start, station_step_m=0.01)
+    settings = RunSettings(speed_m_per_s=10.0, distance_m=start + 0.9, initial_lateral_m=0.0,
+                           time_step_s=time_step_s, output_interval_s=time_step_s)  # fmt: skip
+    result = run(load_vehicle("wheelset"), replace(facing, variable_rails=zone), settings)
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    return {k: np.asarray(ts[c]) for k, c in (("s", "ws1_s_m"), ("q", "ws1_left_Q_N"),
+            ("nose", "ws1_left_rail1_Q_N"), ("wing", "ws1_left_rail2_Q_N"),
+            ("inside", "ws1_left_in_zone"))} | {"s0": start}  # fmt: skip
+
+
+def test_run_into_and_over_the_crossing(facing, sweep):
+    """The wheelset at 10 m/s over the whole crossing's first 1.6 m, at time steps of 0.4 and
+    0.2 ms. No entry step: from the zone's start (the plain rail, slice 4) to s = -0.75 m,
+    just before the wing rail begins to rise (slice 12 at -0.718 m), the wheel load stays
+    within 0.5 % of the static 98.1 kN (slices 41-60 alone gave 254 kN at 2 m/s there). The rails' forces sum to the
+    wheel's (bookkeeping). The impact where the wheel lands on the nose lies within 20 mm
+    after the quasi-static transfer point and converges with the step (within 5 % between the
+    two steps), and it is within a factor 1.3 either way of Jenkins et al.'s P1 force for a
+    rigid track (Jenkins, Stephenson, Clayton, Morland, Lyon 1974, The effect of track and
+    vehicle parameters on wheel/rail vertical dynamic forces, Railway Engineering Journal 3:
+    P1 = P0 + 2 alpha V sqrt(k_H m_e / (1 + m_e / m_u)) with the track's mass m_e infinite):
+    P1 = P0 + 2 alpha V sqrt(k_H m), with the dip angle 2 alpha the change of slope of the
+    rigid wheel's touch heights on wing rail and nose (the slices' geometry), k_H = 1.5 P0 /
+    approach (the linearised Hertz stiffness at P0) and m the wheelset's mass at one wheel,
+    1 / (1 / M + b^2 / I_roll) with b = 0.75 m. A factor 1.3: the formula takes the slope
+    change as sudden, while the two rails share the load over ~9 mm, and the wheel arrives
+    still oscillating from the wing rail's rise (its load 32-139 kN just before the nose)."""
+    s_grid, touch, pressed, forces = sweep
+    peaks = []
+    for dt in (4e-4, 2e-4):
+        r = _run_over_the_crossing(facing, dt)
+        s = r["s"] - r["s0"]
+        inside = r["inside"] > 0.5
+        assert np.max(np.abs(r["nose"] + r["wing"] - r["q"])[inside]) < 1e-6 * WHEEL_LOAD_N
+        entry = (s >= -0.99474) & (s <= -0.75)
+        assert np.count_nonzero(entry) > 50
+        assert np.allclose(r["q"][entry], WHEEL_LOAD_N, rtol=5e-3)
+        near = (s > 0.22) & (s < 0.40)
+        j = int(np.argmax(r["q"][near]))
+        peaks.append((r["q"][near][j], s[near][j]))
+    gap = touch[:, 0] - touch[:, 1]
+    s_star = np.interp(0.0, gap, s_grid)
+    for q, at in peaks:
+        assert s_star <= at <= s_star + 0.020
+    assert peaks[0][0] == pytest.approx(peaks[1][0], rel=0.05)
+    before = (s_grid >= s_star - 0.035) & (s_grid <= s_star - 0.005)
+    after = (s_grid >= s_star + 0.005) & (s_grid <= s_star + 0.035)
+    dip = np.polyfit(s_grid[after], touch[after, 0], 1)[0] - np.polyfit(
+        s_grid[before], touch[before, 1], 1)[0]
+    approach = touch[after, 0][0] - pressed[after][0]
+    k_hertz = 1.5 * WHEEL_LOAD_N / approach
+    mass = 1.0 / (1.0 / WHEELSET_MASS_KG + 0.75**2 / WHEELSET_ROLL_KG_M2)
+    p1 = WHEEL_LOAD_N + dip * 10.0 * np.sqrt(k_hertz * mass)
+    assert 0.010 < dip < 0.025  # ~17 mrad: 7 descending on the wing rail, 10 rising on the nose
+    assert 1.0 / 1.3 < peaks[1][0] / p1 < 1.3, (peaks, p1, dip, k_hertz)
