@@ -21,15 +21,15 @@ import pytest
 from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
-from railexu.profiles.variable import VariableProfile
-from railexu.profiles.variable.slices import ProfileSlices
-from railexu.results.run import RunSettings, run
-from railexu.track.variable_rails import VariableRails
 from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
+from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.slices import ProfileSlices
+from railexu.results.run import RunSettings, run
 from railexu.simulation.sc_outputs import rail_index
 from railexu.track.track import load_track
+from railexu.track.variable_rails import VariableRails
 from railexu.vehicle.vehicle import load_vehicle
 
 SLICES = Path(__file__).resolve().parents[1] / "tracks" / "uk_crossing" / "uk_crossing"
@@ -115,8 +115,8 @@ def test_the_zone_ends_on_the_plain_rail(facing, geometry, s_m):
         h_plain = _pressed_height(plain, lateral, WHEEL_LOAD_N, r0)
         h_zone = _pressed_height(zone, lateral, WHEEL_LOAD_N, r0)
         assert h_zone == pytest.approx(h_plain, abs=1e-6)
-        y = [max(plain.evaluate(lateral, h_plain).raw[0], key=lambda p: p[K.PF_N])[K.PF_YRAIL],
-             max(zone.evaluate(lateral, h_zone).raw[0], key=lambda p: p[K.PF_N])[K.PF_YRAIL]]  # fmt: skip
+        y = [max(m.evaluate(lateral, h).raw[0], key=lambda p: p[K.PF_N])[K.PF_YRAIL]
+             for m, h in ((plain, h_plain), (zone, h_zone))]  # fmt: skip
         assert y[1] == pytest.approx(y[0], abs=5e-4)
 
 
@@ -144,8 +144,8 @@ def _touch_and_pressed(facing, geometry, s_grid, lateral=0.0):
         )
 
         def height(k, target, s=s):
-            def f(h):
-                v = _per_rail(model, rails, geometry, s, lateral, h)
+            def f(h_m):
+                v = _per_rail(model, rails, geometry, s, lateral, h_m)
                 return (v.sum() if k is None else v[k]) - target
 
             try:
@@ -216,9 +216,9 @@ def test_run_into_and_over_the_crossing(facing, sweep):
     """The wheelset at 10 m/s over the whole crossing's first 1.6 m, at time steps of 0.4 and
     0.2 ms. No entry step: from the zone's start (the plain rail, slice 4) to s = -0.75 m,
     just before the wing rail begins to rise (slice 12 at -0.718 m), the wheel load stays
-    within 0.5 % of the static 98.1 kN (slices 41-60 alone gave 254 kN at 2 m/s there). The rails' forces sum to the
-    wheel's (bookkeeping). The impact where the wheel lands on the nose lies within 20 mm
-    after the quasi-static transfer point and converges with the step (within 5 % between the
+    within 0.5 % of the static 98.1 kN (slices 41-60 alone gave 254 kN at 2 m/s there). The
+    rails' forces sum to the wheel's (bookkeeping). The impact where the wheel lands on the
+    nose lies within 20 mm after the quasi-static transfer point and converges with the step (within 5 % between the
     two steps), and it is within a factor 1.3 either way of Jenkins et al.'s P1 force for a
     rigid track (Jenkins, Stephenson, Clayton, Morland, Lyon 1974, The effect of track and
     vehicle parameters on wheel/rail vertical dynamic forces, Railway Engineering Journal 3:
@@ -244,16 +244,75 @@ def test_run_into_and_over_the_crossing(facing, sweep):
         peaks.append((r["q"][near][j], s[near][j]))
     gap = touch[:, 0] - touch[:, 1]
     s_star = np.interp(0.0, gap, s_grid)
-    for q, at in peaks:
+    for _, at in peaks:
         assert s_star <= at <= s_star + 0.020
     assert peaks[0][0] == pytest.approx(peaks[1][0], rel=0.05)
     before = (s_grid >= s_star - 0.035) & (s_grid <= s_star - 0.005)
     after = (s_grid >= s_star + 0.005) & (s_grid <= s_star + 0.035)
-    dip = np.polyfit(s_grid[after], touch[after, 0], 1)[0] - np.polyfit(
-        s_grid[before], touch[before, 1], 1)[0]
+    dip = (
+        np.polyfit(s_grid[after], touch[after, 0], 1)[0]
+        - np.polyfit(s_grid[before], touch[before, 1], 1)[0]
+    )
     approach = touch[after, 0][0] - pressed[after][0]
     k_hertz = 1.5 * WHEEL_LOAD_N / approach
     mass = 1.0 / (1.0 / WHEELSET_MASS_KG + 0.75**2 / WHEELSET_ROLL_KG_M2)
     p1 = WHEEL_LOAD_N + dip * 10.0 * np.sqrt(k_hertz * mass)
     assert 0.010 < dip < 0.025  # ~17 mrad: 7 descending on the wing rail, 10 rising on the nose
     assert 1.0 / 1.3 < peaks[1][0] / p1 < 1.3, (peaks, p1, dip, k_hertz)
+
+
+def _contacts_when_pushed(model, geometry, lateral_m):
+    """Loaded contact points ``(side, y in that rail's axes [m], Fy [N])`` of the wheelset
+    pressed with its static axle load at ``lateral_m`` (towards the left, the crossing side)."""
+    r0 = geometry.left.nominal_radius_m
+
+    def fz(h):
+        raw = model.evaluate(lateral_m, h).raw
+        return sum(p[K.PF_FTZ] for s in range(2) for p in raw[s] if p[K.PF_ACTIVE] > 0)
+
+    h = brentq(lambda h: fz(h) - 2.0 * WHEEL_LOAD_N, r0 - 5e-4, r0 + 6e-3, xtol=1e-11)
+    out = []
+    for side, pair in enumerate((geometry.left, geometry.right)):
+        for p in model.evaluate(lateral_m, h).raw[side]:
+            if p[K.PF_ACTIVE] > 0 and p[K.PF_N] > 0:
+                out.append((side, p[K.PF_YRAIL] - pair.rail_origin_track_m[0], p[K.PF_FTY]))
+    return out
+
+
+def test_check_rail_takes_the_back_of_the_flange(facing, geometry):
+    """The check rail beside the opposite (right) stock rail, at s = 0 (the check rail's middle,
+    opposite the nose's start), the crossing side plain: the wheelset pressed with its axle
+    load and pushed towards the crossing side in 0.5 mm steps. The contact search finds the
+    right wheel's back of the flange on the check rail's face (the check rail's slices: its
+    face at y = -75.5 mm, 15-33 mm below its top) once the wheelset has moved by the gap
+    between the flange's back (680 mm from the track centre: flange backs 1360 mm apart) and
+    the face (752.5 - 75.5 = 677 mm), ~3 mm plus the back's slope: between 2.5 and 5 mm; the
+    check rail pushes the wheelset back (Fy < 0); and it does so at least 1 mm before the left
+    wheel's flange reaches its rail's gauge face (the check rail keeps the flange off the
+    nose). At the check rail's flared end (s = -2.897 m, its face 25 mm further away) the same
+    push finds no contact on it."""
+    rails = facing.variable_rails
+    model = WheelsetContactModel(geometry)
+
+    def first(s_m, predicate):
+        model.rtab_r, model.rinfo_r = section_rail_arrays(
+            rails.right, s_m, geometry.right, x_max_m=rails.x_max_m
+        )
+        for lateral in np.arange(0.0, 0.0081, 0.0005):
+            try:
+                points = _contacts_when_pushed(model, geometry, lateral)
+            except ValueError:  # wedged against a rail: no height carries the load
+                return None, []
+            hits = [p for p in points if predicate(p)]
+            if hits:
+                return lateral, hits
+        return None, []
+
+    on_check = lambda p: p[0] == 1 and p[1] < -0.060  # noqa: E731
+    on_flange = lambda p: p[0] == 0 and p[1] < -0.025  # noqa: E731
+    lateral, hits = first(0.0, on_check)
+    assert lateral is not None and 0.0025 <= lateral <= 0.005
+    assert all(abs(y + 0.0755) < 0.003 and fy < 0.0 for _, y, fy in hits)
+    flange, _ = first(0.0, on_flange)
+    assert flange is None or flange >= lateral + 0.001
+    assert first(-2.897, on_check)[0] is None

@@ -164,8 +164,8 @@ def write_crossing(path: Path) -> None:
     kinds = crossing_kinds(profiles)
     lines = [
         "# The whole UK crossing 56E1-R245-1:9.25 (S&C benchmark), crossing side: slices",
-        f"# {FIRST_SLICE}-{LAST_SLICE} of CONTACT's uk_crossing.slcs (Apache-2.0, README.md), plain",
-        "# rail to plain rail. Written by make_full_slices.py (feature points derived there:",
+        f"# {FIRST_SLICE}-{LAST_SLICE} of CONTACT's uk_crossing.slcs (Apache-2.0, README.md),",
+        "# plain rail to plain rail. Written by make_full_slices.py (feature points derived there:",
         "# 15 per slice in mm along its curve, nose then wing rail: see the script).",
         "# Do not edit.",
         "text_unit: m",

@@ -64,9 +64,9 @@ def boundary_feature(profile: VariableProfile) -> int | None:
     have = np.isfinite(f)
     for k in range(1, f.shape[1] - 1):
         before, after = have[:, :k], have[:, k + 1 :]
-        if have[:, k].all() and before.any() and after.any():
-            if not before[0].any() or not after[-1].any():
-                return k
+        parts = have[:, k].all() and before.any() and after.any()
+        if parts and (not before[0].any() or not after[-1].any()):
+            return k
     return None
 
 
