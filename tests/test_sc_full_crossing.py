@@ -213,22 +213,22 @@ def _run_over_the_crossing(facing, time_step_s):
 
 
 def test_run_into_and_over_the_crossing(facing, sweep):
-    """The wheelset at 10 m/s over the whole crossing's first 1.6 m, at time steps of 0.4 and
-    0.2 ms. No entry step: from the zone's start (the plain rail, slice 4) to s = -0.75 m,
-    just before the wing rail begins to rise (slice 12 at -0.718 m), the wheel load stays
-    within 0.5 % of the static 98.1 kN (slices 41-60 alone gave 254 kN at 2 m/s there). The
-    rails' forces sum to the wheel's (bookkeeping). The impact where the wheel lands on the
-    nose lies within 20 mm after the quasi-static transfer point and converges with the step (within 5 % between the
-    two steps), and it is within a factor 1.3 either way of Jenkins et al.'s P1 force for a
+    """The wheelset at 10 m/s over the whole crossing's first 1.6 m, time steps 0.4, 0.2 ms.
+    No entry step: from the zone's start (the plain rail, slice 4) to s = -0.75 m, just before
+    the wing rail begins to rise (slice 12 at -0.718 m), the wheel load stays within 0.5 % of
+    the static 98.1 kN (slices 41-60 alone gave 254 kN at 2 m/s there). The rails' forces sum
+    to the wheel's (bookkeeping). The impact where the wheel lands on the nose lies within 20
+    mm after the quasi-static transfer point and converges with the step (within 5 % between
+    the two steps), and it is within a factor 1.3 either way of Jenkins et al.'s P1 force for a
     rigid track (Jenkins, Stephenson, Clayton, Morland, Lyon 1974, The effect of track and
-    vehicle parameters on wheel/rail vertical dynamic forces, Railway Engineering Journal 3:
-    P1 = P0 + 2 alpha V sqrt(k_H m_e / (1 + m_e / m_u)) with the track's mass m_e infinite):
-    P1 = P0 + 2 alpha V sqrt(k_H m), with the dip angle 2 alpha the change of slope of the
-    rigid wheel's touch heights on wing rail and nose (the slices' geometry), k_H = 1.5 P0 /
-    approach (the linearised Hertz stiffness at P0) and m the wheelset's mass at one wheel,
-    1 / (1 / M + b^2 / I_roll) with b = 0.75 m. A factor 1.3: the formula takes the slope
-    change as sudden, while the two rails share the load over ~9 mm, and the wheel arrives
-    still oscillating from the wing rail's rise (its load 32-139 kN just before the nose)."""
+    vehicle parameters on wheel/rail vertical dynamic forces, Railway Engineering Journal 3: P1
+    = P0 + 2 alpha V sqrt(k_H m_e / (1 + m_e / m_u)) with the track's mass m_e infinite): P1 =
+    P0 + 2 alpha V sqrt(k_H m), with the dip angle 2 alpha the change of slope of the rigid
+    wheel's touch heights on wing rail and nose (the slices' geometry), k_H = 1.5 P0 / approach
+    (the linearised Hertz stiffness at P0) and m the wheelset's mass at one wheel, 1 / (1 / M +
+    b^2 / I_roll) with b = 0.75 m. A factor 1.3: the formula takes the slope change as sudden,
+    while the two rails share the load over ~9 mm, and the wheel arrives still oscillating from
+    the wing rail's rise (its load 32-139 kN just before the nose)."""
     s_grid, touch, pressed, forces = sweep
     peaks = []
     for dt in (4e-4, 2e-4):
