@@ -316,3 +316,19 @@ def test_check_rail_takes_the_back_of_the_flange(facing, geometry):
     flange, _ = first(0.0, on_flange)
     assert flange is None or flange >= lateral + 0.001
     assert first(-2.897, on_check)[0] is None
+
+
+def test_crossing_rails_for_a_route_and_direction():
+    """The interface for tracks that place the crossing themselves: the zone at the given
+    distance, the trailing one the facing one reversed (s -> -s), the diverging route refused
+    (the benchmark has no slices of the crossing for it)."""
+    from railexu.errors import InputError
+    from railexu.track.uk_crossing import crossing_rails
+
+    facing = crossing_rails("through", "facing", start_m=12.5)
+    trailing = crossing_rails("through", "trailing", start_m=12.5)
+    assert facing.zone_m() == pytest.approx((12.5 - 2.897, 12.5 + 2.793))
+    assert trailing.zone_m() == pytest.approx((12.5 - 2.793, 12.5 + 2.897))
+    assert trailing.left.s_range_m == pytest.approx((-2.25764, 0.99474))
+    with pytest.raises(InputError, match="route 'diverging'"):
+        crossing_rails("diverging")
