@@ -332,3 +332,17 @@ def test_crossing_rails_for_a_route_and_direction():
     assert trailing.left.s_range_m == pytest.approx((-2.25764, 0.99474))
     with pytest.raises(InputError, match="route 'diverging'"):
         crossing_rails("diverging")
+
+
+def test_rail_attribution_along_the_whole_crossing_both_directions(facing):
+    """Which rail a point is on, from the slices' geometry: the wing rail alone before the nose
+    starts (slice 48), the nose on the gauge side and the wing rail on the field side of the
+    flangeway while both exist, the nose alone after the wing rail ends (slice 95) and where
+    it has become the plain rail; the same at -s on the trailing track (a first version called
+    the trailing track's nose the wing rail: its slices run in the other order)."""
+    trailing = load_track("uk_crossing_trailing").variable_rails.left
+    y = np.array([-0.020, 0.026])  # the nose's top, the wing rail's (or the nose's) field half
+    expected = {-0.5: [1, 1], 0.05: [0, 1], 0.2: [0, 1], 0.5: [0, 0], 1.5: [0, 0], 2.2: [0, 0]}
+    for s, rails in expected.items():
+        assert rail_index(facing.variable_rails.left, s, y).tolist() == rails, s
+        assert rail_index(trailing, -s, y).tolist() == rails, s

@@ -54,9 +54,9 @@ def rail_index(profile: VariableProfile, s_m: float, y_m: np.ndarray) -> np.ndar
 
 def boundary_feature(profile: VariableProfile) -> int | None:
     """The feature that parts a side's two rails along the whole zone, or None: one present
-    in every slice, with parts before and after it somewhere, the parts before it all absent
-    in the first slice or those after it all absent in the last (the wing rail alone before a
-    crossing's nose starts, the nose alone after the wing rail ends:
+    in every slice, with parts before and after it somewhere, and some slice without any part
+    before it or without any part after it (in either direction of travel: the wing rail alone
+    before a crossing's nose starts, the nose alone after the wing rail ends:
     ``tracks/uk_crossing/uk_crossing_full.yaml``, CONTACT's ``uk_interrupt_v2.slcs``)."""
     f = profile.slices.features_m
     if f is None:
@@ -65,7 +65,7 @@ def boundary_feature(profile: VariableProfile) -> int | None:
     for k in range(1, f.shape[1] - 1):
         before, after = have[:, :k], have[:, k + 1 :]
         parts = have[:, k].all() and before.any() and after.any()
-        if parts and (not before[0].any() or not after[-1].any()):
+        if parts and (not before.any(axis=1).all() or not after.any(axis=1).all()):
             return k
     return None
 
