@@ -171,12 +171,20 @@ def station_tables(
     n = int(np.floor((hi - lo) / step)) + 1
     cache: dict = {}
     tabs = []
+    first, last = rail.s_range_m
+    constant: dict = {}  # before the first / after the last slice the profile does not change
     for s in stations_m:  # in order: sections behind the effective section are dropped
+        side = "before" if s + x_max_m < first else "after" if s - x_max_m > last else None
+        if side in constant:
+            tabs.append(constant[side])
+            continue
         tabs.append(
             section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
                                 curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n),
                                 cache=cache)[0]
         )  # fmt: skip
+        if side is not None:
+            constant[side] = tabs[-1]
         for key in [k for k in cache if k < round((s - x_max_m) * 1e9) - 1]:
             del cache[key]
     return np.ascontiguousarray(np.stack(tabs)), np.array([lo, step, float(n)])
