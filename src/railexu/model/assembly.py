@@ -68,9 +68,6 @@ from railexu.vehicle.vehicle import (
     linear_part,
 )
 
-#: A suspension element's point on a wheelset more than this above or below the axle is on
-#: the wheelset's axlebox: its moment about the axle's centre passes into the axle [m].
-AXLE_HEIGHT_TOLERANCE_M = 1.0e-6
 #: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
 #: default) at t = 0 [m].
 START_MARGIN_M = 1.0
@@ -400,14 +397,14 @@ class VehicleModel:
                 ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate], d, turn
             )
 
-    def _on_axlebox(self, body: str, p_vehicle) -> bool:
-        """Whether an element's point on ``body`` is on a wheelset's axlebox away from the axle:
-        the body is a wheelset and the declared height differs from its axle's (the nominal
-        radius) by more than :data:`AXLE_HEIGHT_TOLERANCE_M`."""
-        ws = next((w for w in self.vehicle.wheelsets if w.name == body), None)
-        if ws is None:
-            return False
-        return abs(float(p_vehicle[2]) - ws.nominal_radius_m) > AXLE_HEIGHT_TOLERANCE_M
+    def _on_axlebox(self, body: str) -> bool:
+        """Whether an element's point on ``body`` is on a wheelset's axlebox: every element
+        acts on a wheelset through its axlebox, at the declared height above the axle (on the
+        axle at the axle's height), which passes the force and its moment into the axle but
+        not the moment about the axle (``docs/suspension.md``, "Elements at a wheelset"); the
+        force acts at the midpoint of the element's two ends, whose lever from the axle's
+        centre is never along the axle alone once the ends separate."""
+        return any(w.name == body for w in self.vehicle.wheelsets)
 
     def _local_point(
         self, body: str, p_vehicle, axlebox: bool = False
@@ -429,19 +426,19 @@ class VehicleModel:
         return local, self.centre[body] + self.rotation[body] @ local
 
     def _add_suspension(self) -> None:
-        """Linear springs and dampers (and the linear parts of air springs, anti-roll bars) as
-        Exudyn connectors preloaded with their static forces; bump stops and the nonlinear
-        elements (:mod:`railexu.model.suspension_forces`) are collected for the compiled force
-        function, with one internal coordinate per series spring."""
+        """Torsion springs (and anti-roll bars) as Exudyn connectors preloaded with their
+        static moments; linear springs and dampers (and the linear parts of air springs) as
+        compiled linear elements, bump stops and the nonlinear elements
+        (:mod:`railexu.model.suspension_forces`) collected for the compiled force function,
+        with one internal coordinate per series spring. Every element's forces act at the
+        midpoint of its two ends (no couple when they separate, ``docs/suspension.md``)."""
         self.bump_stops: list[tuple] = []
         self.bump_stop_axlebox: list[tuple[bool, bool]] = []
-        on_axlebox: list[SpringDamper] = []
+        spring_dampers: list[SpringDamper] = []
         for el in self.vehicle.suspension:
             lin = linear_part(el)
-            if isinstance(lin, SpringDamper) and self._element_on_axlebox(lin) != (False, False):
-                on_axlebox.append(lin)
-            elif isinstance(lin, SpringDamper):
-                self._add_spring_damper(lin)
+            if isinstance(lin, SpringDamper):
+                spring_dampers.append(lin)
             elif isinstance(lin, TorsionSpring):
                 self._add_torsion_spring(lin)
             elif isinstance(el, BumpStop):
@@ -456,21 +453,22 @@ class VehicleModel:
             self.kernel_elements = kernel_elements(self.vehicle, self.statics)
         except InputError as exc:
             raise ModelError(str(exc)) from exc
-        for lin in on_axlebox:
-            self.kernel_elements += self._axlebox_spring_damper(lin)
+        for lin in spring_dampers:
+            self.kernel_elements += self._compiled_spring_damper(lin)
         self._add_internal_coordinates()
 
     def _element_on_axlebox(self, el) -> tuple[bool, bool]:
         """Whether the element's point on its first and on its second body is on a wheelset's
-        axlebox away from the axle."""
-        return tuple(self._on_axlebox(b, el.position_m) for b in el.bodies)
+        axlebox."""
+        return tuple(self._on_axlebox(b) for b in el.bodies)
 
-    def _axlebox_spring_damper(self, el: SpringDamper) -> list[KernelElement]:
-        """A spring-damper with a point on a wheelset's axlebox away from the axle as compiled
-        linear elements, one per axis with stiffness or damping: the compiled force function
-        carries the moment of its force about the axle into the axle, as an axlebox does
-        (``docs/suspension.md``, "Elements at a wheelset"). Preloaded with its static force
-        like the connector (``F = k (d + d_s)``, ``d_s = -f_b / k``)."""
+    def _compiled_spring_damper(self, el: SpringDamper) -> list[KernelElement]:
+        """A linear spring-damper as compiled linear elements, one per axis with stiffness or
+        damping: its equal and opposite forces act at the midpoint of its two ends (an Exudyn
+        Cartesian spring-damper applies them at its two markers and leaves the couple
+        ``(p_b - p_a) x F`` of separated ends unbalanced), and on a wheelset through its
+        axlebox (``docs/suspension.md``). Preloaded with its static force
+        (``F = k (d + d_s)``, ``d_s = -f_b / k``)."""
         f_b = np.asarray(self.statics.element_forces[el.name], dtype=float)
         out = []
         for axis in range(3):
@@ -480,7 +478,7 @@ class VehicleModel:
                 continue
             out.append(
                 KernelElement(
-                    f"{el.name}_axlebox_{'xyz'[axis]}", bodies=el.bodies,
+                    f"{el.name}_{'xyz'[axis]}", bodies=el.bodies,
                     position_m=el.position_m, axis=axis, parallel_stiffness_N_per_m=k,
                     parallel_damping_N_s_per_m=c,
                     static_deflection_m=-f_b[axis] / k if k > 0.0 else 0.0,
@@ -526,29 +524,6 @@ class VehicleModel:
         body_slot = {name: slot[node] for name, node in self.node.items() if node in slot}
         start = 6 * len(slot) + 4 * len(self.rail_node)
         return kernel_arrays(self.kernel_elements, body_slot, local, start, axlebox)
-
-    def _add_spring_damper(self, el: SpringDamper) -> None:
-        from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper
-
-        mbs = self.mbs
-        a, b = el.bodies
-        la, ga = self._local_point(a, el.position_m)
-        lb, gb = self._local_point(b, el.position_m)
-        ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[a], localPosition=la))
-        mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[b], localPosition=lb))
-        k = np.asarray(el.stiffness_N_per_m)
-        f_b = np.asarray(self.statics.element_forces[el.name])
-        offset = gb - ga
-        nz = k > 0.0
-        offset[nz] += f_b[nz] / k[nz]
-        mbs.AddObject(
-            ObjectConnectorCartesianSpringDamper(
-                markerNumbers=[ma, mb],
-                stiffness=list(k),
-                damping=list(el.damping_N_s_per_m),
-                offset=list(offset),
-            )
-        )
 
     def _add_torsion_spring(self, el: TorsionSpring) -> None:
         from exudyn.itemInterface import MarkerBodyRigid, ObjectConnectorRigidBodySpringDamper

@@ -145,3 +145,16 @@ def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
     out[o_guide + 3] += mx
     out[o_guide + 4] += cg0 * my + sg0 * mz
     out[o_guide + 5] += sg1 * mx - sg0 * cg1 * my + cg0 * cg1 * mz
+
+
+@numba.njit(inline="always", **_JIT)
+def midpoint_levers(pa, pb, ra, rb):
+    """Turn the levers ``ra``, ``rb`` of an element's two ends ``pa``, ``pb`` (from their
+    bodies' centres) into the levers of the ends' midpoint ``(pa + pb) / 2``: an element's
+    equal and opposite forces then act at one point and carry no couple ``(pb - pa) x F``,
+    which a coil spring's seats carry half each (``docs/suspension.md``, "The couple of an
+    element whose ends separate")."""
+    for k in range(3):
+        half = 0.5 * (pb[k] - pa[k])
+        ra[k] += half
+        rb[k] -= half

@@ -44,6 +44,7 @@ from railexu.model.body_points import (
     apply_axial_force,
     apply_axlebox_force,
     axlebox_point_state,
+    midpoint_levers,
     point_state,
     rotation,
 )
@@ -585,6 +586,7 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
     d = pb[dr] - pa[dr] - bs_real[b, BS_D0]
     f = bump_stop_law(d, vb[dr] - va[dr], bs_real[b, BS_CLEAR], bs_real[b, BS_K], bs_real[b, BS_C])
     if f != 0.0:
+        midpoint_levers(pa, pb, ra, rb)  # no couple of the separated ends (docs/suspension.md)
         if box_a:
             apply_axlebox_force(oa, ob, -1.0, f, dr, ra, q, qref, out)
         else:

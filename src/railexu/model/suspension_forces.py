@@ -56,6 +56,7 @@ from railexu.model.body_points import (
     apply_axial_force,
     apply_axlebox_force,
     axlebox_point_state,
+    midpoint_levers,
     point_state,
 )
 from railexu.model.characteristics import characteristic_table
@@ -157,7 +158,10 @@ def _law(e, si, sr, tab, v):
 @numba.njit(**_JIT)
 def element_force(e, q, qt, qref, si, sr, tab, out):
     """Add the generalized forces of kernel element ``e`` to ``out`` and return its force
-    ``F`` [N] (``-F`` acts on the second body along the element's axis)."""
+    ``F`` [N] (``-F`` acts on the second body along the element's axis). Both forces act at
+    the midpoint of the element's two ends, so that the pair carries no couple whatever the
+    separation of its ends (``docs/suspension.md``, "The couple of an element whose ends
+    separate")."""
     oa = 6 * si[e, SI_SLOT0]
     ob = 6 * si[e, SI_SLOT1]
     dr = si[e, SI_DIR]
@@ -201,6 +205,7 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
     else:
         f += _law(e, si, sr, tab, v)
     if f != 0.0:
+        midpoint_levers(pa, pb, ra, rb)
         if box_a:
             apply_axlebox_force(oa, ob, 1.0, f, dr, ra, q, qref, out)
         else:
