@@ -305,3 +305,52 @@ def test_the_eu07_balances_roll_moments_in_a_steady_curve():
     contact, statics = roll_moment_balance(vehicle, result)
     assert statics < -5.0e4  # the curve's moment: about -100 kN m
     assert contact == pytest.approx(statics, rel=0.05)
+
+
+def test_a_group_of_axes_gives_the_forces_of_its_elements():
+    """The run evaluates a spring-damper's three axes together (:func:`group_force`: the ends'
+    states once, the summed force at the midpoint): the same generalized forces as the three
+    elements one by one (to round-off), and its finite-difference Jacobian the same as that
+    of the elements one by one (1e-6 of its largest entry)."""
+    from railexu.model.suspension_forces import (
+        SI_GROUP,
+        group_force,
+        suspension_forces,
+        suspension_jacobian,
+    )
+
+    elements = _secondary_spring(table=True)
+    la = SEAT - QREF[0:3]
+    lb = SEAT - QREF[6:9]
+    local = {e.name: ((la, lb), 0.0) for e in elements}
+    si, sr, tab = kernel_arrays(elements, {"body": 0, "frame": 1}, local, 12)
+    assert list(si[:, SI_GROUP]) == [3, 0, 0]
+    one_by_one = np.zeros(12)
+    for e in range(3):
+        element_force(e, Q, QT, QREF, si, sr, tab, one_by_one)
+    grouped = np.zeros(12)
+    group_force(0, Q, QT, QREF, si, sr, tab, grouped)
+    assert grouped == pytest.approx(one_by_one, abs=1e-9 * np.max(np.abs(one_by_one)))
+    total = np.zeros(12)
+    suspension_forces(Q, QT, QREF, si, sr, tab, total)
+    assert total == pytest.approx(one_by_one, abs=1e-9 * np.max(np.abs(one_by_one)))
+    # the Jacobian: grouped against a central-difference Jacobian of the elements one by one
+    f_q, f_v = 1.0, 0.01
+    jac = np.zeros((12, 12))
+    work = [np.zeros(12) for _ in range(2)]
+    suspension_jacobian(Q, QT, QREF, si, sr, tab, f_q, f_v, jac, Q.copy(), QT.copy(), *work)
+    expected = np.zeros((12, 12))
+    for col in range(12):
+        for h, factor, shift in ((1e-7, f_q, "q"), (1e-5, f_v, "v")):
+            plus, minus = np.zeros(12), np.zeros(12)
+            dq = np.zeros(12)
+            dq[col] = h
+            for e in range(3):
+                if shift == "q":
+                    element_force(e, Q + dq, QT, QREF, si, sr, tab, plus)
+                    element_force(e, Q - dq, QT, QREF, si, sr, tab, minus)
+                else:
+                    element_force(e, Q, QT + dq, QREF, si, sr, tab, plus)
+                    element_force(e, Q, QT - dq, QREF, si, sr, tab, minus)
+            expected[:, col] -= factor * (plus - minus) / (2.0 * h)
+    assert jac == pytest.approx(expected, abs=1e-6 * np.max(np.abs(expected)))

@@ -65,6 +65,12 @@ def apply_axial_force(o, sgn, f, dr, r, q, qref, out):
     fv0 = sgn * f if dr == 0 else 0.0
     fv1 = sgn * f if dr == 1 else 0.0
     fv2 = sgn * f if dr == 2 else 0.0
+    apply_force(o, fv0, fv1, fv2, r, q, qref, out)
+
+
+@numba.njit(**_JIT)
+def apply_force(o, fv0, fv1, fv2, r, q, qref, out):
+    """Add the force ``(fv0, fv1, fv2)`` (global) at lever ``r`` to the node at offset ``o``."""
     out[o] += fv0
     out[o + 1] += fv1
     out[o + 2] += fv2
@@ -118,6 +124,12 @@ def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
     fv0 = sgn * f if dr == 0 else 0.0
     fv1 = sgn * f if dr == 1 else 0.0
     fv2 = sgn * f if dr == 2 else 0.0
+    apply_axlebox_force_vector(o, o_guide, fv0, fv1, fv2, r, q, qref, out)
+
+
+@numba.njit(**_JIT)
+def apply_axlebox_force_vector(o, o_guide, fv0, fv1, fv2, r, q, qref, out):
+    """:func:`apply_axlebox_force` for the force ``(fv0, fv1, fv2)`` (global)."""
     out[o] += fv0
     out[o + 1] += fv1
     out[o + 2] += fv2
