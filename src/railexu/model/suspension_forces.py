@@ -1,9 +1,12 @@
-"""Compiled forces of the nonlinear suspension elements (``docs/suspension.md``).
+"""Compiled forces of the suspension elements other than torsion springs: the linear
+spring-dampers and the nonlinear elements (``docs/suspension.md``).
 
-Every nonlinear element is reduced to one or more *kernel elements* acting between two body
-points along one track axis (x, y or z). With the relative displacement ``d`` of the second
-point from the first along the axis, measured from the nominal (static) geometry, and its rate
-``v = d'``, a kernel element exerts ``-F`` on the second body and ``+F`` on the first, with
+Every such element is reduced to one or more *kernel elements* acting between two body
+points along one track axis (x, y or z); the forces on the two bodies act at the midpoint of
+the two points (no couple when they separate), on a wheelset through its axlebox. With the
+relative displacement ``d`` of the second point from the first along the axis, measured from
+the nominal (static) geometry, and its rate ``v = d'``, a kernel element exerts ``-F`` on the
+second body and ``+F`` on the first, with
 
     F = P(d + d_s) + c_p v + S
 
