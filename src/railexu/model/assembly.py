@@ -54,7 +54,13 @@ from railexu.model.forces import (
 )
 from railexu.model.sc_tables import sc_kernel_fields
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
-from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
+from railexu.model.suspension_forces import (
+    SI_INTERNAL,
+    KernelElement,
+    element_deflection,
+    kernel_arrays,
+    kernel_elements,
+)
 from railexu.model.vertical_forces import VerticalForces
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
@@ -76,6 +82,9 @@ from railexu.vehicle.vehicle import (
 #: loads that balance it (:meth:`VehicleModel._balance_start_loads`; railexu's choice: on level
 #: track the residual is round-off and nothing changes).
 START_ROLL_BALANCE_SHARE = 0.02
+#: An internal coordinate (series branch) is started relaxed at the start's geometry where that
+#: moves it by more than this from 0 [m] (:meth:`VehicleModel._relaxed_internal_coordinates`).
+START_INTERNAL_TOLERANCE_M = 1.0e-6
 #: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
 #: default) at t = 0 [m].
 START_MARGIN_M = 1.0
@@ -211,8 +220,11 @@ class VehicleModel:
         # --- the Exudyn system
         self.SC = exu.SystemContainer()
         self.mbs = self.SC.AddSystem()
+        #: the internal coordinates at the start [m] (None: zeros, the nominal geometry)
+        self.start_internal_m: np.ndarray | None = None
         self._build()
-        if self._balance_start_loads():
+        relaxed = self._relaxed_internal_coordinates()
+        if self._balance_start_loads() or relaxed:
             self._press_wheelsets()
             self.SC = exu.SystemContainer()
             self.mbs = self.SC.AddSystem()
@@ -235,6 +247,33 @@ class VehicleModel:
             self.initial_spin_rates.append(
                 free_rolling_spin_rate(cm, st.lateral_m, st.vertical_m, st.roll_rad, 0.0)
             )
+
+    def _relaxed_internal_coordinates(self) -> bool:
+        """Set :attr:`start_internal_m` so that every series branch (a damper's bushes, a
+        friction slider's stick spring, an air spring's reservoir) carries no force at the
+        start, as after a long rest, where that moves an internal coordinate by more than
+        :data:`START_INTERNAL_TOLERANCE_M`; True if any moved.
+
+        On level track the nominal geometry is the start's and the internal coordinates are
+        0. On a twisted track the ends of an element separate at ``t = 0`` (the loaded
+        Hbbins' UIC links by 10 mm laterally at 4 per mille: the axleboxes, 0.29 m above the
+        axles, roll with the wheelsets against the car body); with ``u = 0`` their stick
+        springs would start at 20 kN, twice the links' friction limit, and push the wheelsets
+        sideways in the first step (the empty Hbbins climbed its flange in 5 ms)."""
+        if self.internal_node is None:
+            return False
+        q = np.asarray(self.mbs.systemData.GetODE2Coordinates(), dtype=float)[self.object_ltg]
+        d = self.kernel
+        u = np.zeros(len(self.internal_ltg))
+        first = q.shape[0] - u.shape[0]  # the internal coordinates come last
+        for e in range(d.se_int.shape[0]):
+            iu = int(d.se_int[e, SI_INTERNAL])
+            if iu >= 0:
+                u[iu - first] = element_deflection(e, q, d.qref, d.se_int, d.se_real)
+        if np.max(np.abs(u)) <= START_INTERNAL_TOLERANCE_M:
+            return False
+        self.start_internal_m = u
+        return True
 
     def _balance_start_loads(self) -> bool:
         """Move load between each wheelset's wheels so that the contact balances the roll
@@ -562,10 +601,11 @@ class VehicleModel:
         if not masses:
             return
         n = len(masses)
+        start = [0.0] * n if self.start_internal_m is None else list(self.start_internal_m)
         self.internal_node = self.mbs.AddNode(
             NodeGenericODE2(
                 referenceCoordinates=[0.0] * n,
-                initialCoordinates=[0.0] * n,
+                initialCoordinates=start,
                 initialCoordinates_t=[0.0] * n,
                 numberOfODE2Coordinates=n,
             )

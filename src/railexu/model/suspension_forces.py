@@ -56,7 +56,6 @@ import numba
 import numpy as np
 
 from railexu.model.body_points import (
-    apply_axlebox_force_vector,
     apply_force,
     axlebox_point_state,
     midpoint_levers,
@@ -214,14 +213,18 @@ def _apply_pair(e, f0, f1, f2, pa, pb, ra, rb, q, qref, si, out):
     oa = 6 * si[e, SI_SLOT0]
     ob = 6 * si[e, SI_SLOT1]
     midpoint_levers(pa, pb, ra, rb)
-    if si[e, SI_BOX0] == 1:
-        apply_axlebox_force_vector(oa, ob, f0, f1, f2, ra, q, qref, out)
-    else:
-        apply_force(oa, f0, f1, f2, ra, q, qref, out)
-    if si[e, SI_BOX1] == 1:
-        apply_axlebox_force_vector(ob, oa, -f0, -f1, -f2, rb, q, qref, out)
-    else:
-        apply_force(ob, -f0, -f1, -f2, rb, q, qref, out)
+    apply_force(oa, ob if si[e, SI_BOX0] == 1 else -1, f0, f1, f2, ra, q, qref, out)
+    apply_force(ob, oa if si[e, SI_BOX1] == 1 else -1, -f0, -f1, -f2, rb, q, qref, out)
+
+
+def element_deflection(e: int, q: np.ndarray, qref: np.ndarray, si: np.ndarray,
+                       sr: np.ndarray) -> float:  # fmt: skip
+    """The deflection ``d`` [m] of kernel element ``e`` along its axis from the nominal
+    geometry at the coordinates ``q`` (the ``d`` of the module doc)."""
+    p = [np.empty(3) for _ in range(6)]
+    _points(e, q, np.zeros_like(q), qref, si, sr, *p)
+    dr = si[e, SI_DIR]
+    return float(p[1][dr] - p[0][dr] - sr[e, SR_D0])
 
 
 @numba.njit(**_JIT)
