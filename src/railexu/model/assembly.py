@@ -256,8 +256,8 @@ class VehicleModel:
 
         On level track the nominal geometry is the start's and the internal coordinates are
         0. On a twisted track the ends of an element separate at ``t = 0`` (the loaded
-        Hbbins' UIC links by 10 mm laterally at 4 per mille: the axleboxes, 0.29 m above the
-        axles, roll with the wheelsets against the car body); with ``u = 0`` their stick
+        Hbbins' UIC links by 9.9 mm laterally at 4 per mille: the wheelsets are placed with the
+        cant under each, the car body with the cant under its centre); with ``u = 0`` their stick
         springs would start at 20 kN, twice the links' friction limit, and push the wheelsets
         sideways in the first step (the empty Hbbins climbed its flange in 5 ms)."""
         if self.internal_node is None:
@@ -277,8 +277,8 @@ class VehicleModel:
 
     def _balance_start_loads(self) -> bool:
         """Move load between each wheelset's wheels so that the contact balances the roll
-        moment of the suspension on the wheelset at the start, where it differs from the
-        statics' by more than :data:`START_ROLL_BALANCE_SHARE`; True if any load moved.
+        moment on the wheelset at the start, where that residual exceeds
+        :data:`START_ROLL_BALANCE_SHARE` times ``b Q0``; True if any load moved.
 
         The statics hold on level, untwisted track. A vehicle started on a twisted track (the
         EN 14363 twist test, ``railexu.assessment.acceptance.twist``) has its springs warped at
@@ -291,6 +291,8 @@ class VehicleModel:
         n = self._out.shape[0]
         q = np.asarray(self.mbs.systemData.GetODE2Coordinates(), dtype=float)
         qt = np.asarray(self.mbs.systemData.GetODE2Coordinates_t(), dtype=float)
+        if self.start_internal_m is not None:  # the series branches as they will start
+            q[self.internal_ltg] = self.start_internal_m
         out = np.zeros(n)
         self.evaluate(q, qt, 0.0, out, self.points.copy(), self.ws_force.copy())
         moved = False
@@ -303,7 +305,10 @@ class VehicleModel:
                 self.start_wheel_loads_N[w] += [shift, -shift]
                 moved = True
         if moved and np.any(self.start_wheel_loads_N <= 0.0):
-            raise ModelError("the start on this track unloads a wheel completely at rest")
+            bad = [w.name for w, q_w in zip(self.vehicle.wheelsets, self.start_wheel_loads_N,
+                                             strict=True) if np.any(q_w <= 0.0)]  # fmt: skip
+            raise ModelError(f"wheelsets {bad}: at the start on this track (twisted under the "
+                             "vehicle) a wheel carries no load at rest")  # fmt: skip
         return moved
 
     # ------------------------------------------------------------------------------------------
