@@ -256,12 +256,14 @@ def group_force(g, q, qt, qref, si, sr, tab, out):
     axes) to ``out``: the ends' states once, the axes' forces summed into one force at the
     midpoint. The same forces as :func:`element_force` of each element, in a third of the
     time for a three-axis spring-damper."""
-    pa = np.empty(3)
-    pb = np.empty(3)
-    va = np.empty(3)
-    vb = np.empty(3)
-    ra = np.empty(3)
-    rb = np.empty(3)
+    _group_force(g, q, qt, qref, si, sr, tab, out, np.empty((6, 3)))
+
+
+@numba.njit(**_JIT)
+def _group_force(g, q, qt, qref, si, sr, tab, out, work):
+    """:func:`group_force` with the ends' states in ``work`` (6 x 3, overwritten): one work
+    array for all groups of a call instead of six small arrays per group."""
+    pa, pb, va, vb, ra, rb = work[0], work[1], work[2], work[3], work[4], work[5]
     _points(g, q, qt, qref, si, sr, pa, pb, va, vb, ra, rb)
     f0 = 0.0
     f1 = 0.0
@@ -282,9 +284,10 @@ def group_force(g, q, qt, qref, si, sr, tab, out):
 @numba.njit(**_JIT)
 def suspension_forces(q, qt, qref, si, sr, tab, out):
     """Add the generalized forces of all kernel elements to ``out`` (see the module doc)."""
+    work = np.empty((6, 3))
     for g in range(si.shape[0]):
         if si[g, SI_GROUP] > 0:
-            group_force(g, q, qt, qref, si, sr, tab, out)
+            _group_force(g, q, qt, qref, si, sr, tab, out, work)
 
 
 #: Finite-difference steps of :func:`suspension_jacobian` [m, rad; m/s, rad/s].
@@ -330,6 +333,7 @@ def suspension_jacobian(q, qt, qref, si, sr, tab, f_q, f_v, jac, qp, qtp, base, 
     length."""
     cols = np.empty(2 * (12 + si.shape[0]), dtype=np.int64)
     rows = np.empty(12 + si.shape[0], dtype=np.int64)
+    work = np.empty((6, 3))
     for g in range(si.shape[0]):
         if si[g, SI_GROUP] <= 0:
             continue
@@ -347,7 +351,7 @@ def suspension_jacobian(q, qt, qref, si, sr, tab, f_q, f_v, jac, qp, qtp, base, 
                 nr += 1
         for k in range(nr):
             base[rows[k]] = 0.0
-        group_force(g, q, qt, qref, si, sr, tab, base)
+        _group_force(g, q, qt, qref, si, sr, tab, base, work)
         for j in range(n_q + n_v):
             col = cols[j]
             if j < n_q:
@@ -358,7 +362,7 @@ def suspension_jacobian(q, qt, qref, si, sr, tab, f_q, f_v, jac, qp, qtp, base, 
                 qtp[col] = qt[col] + h
             for k in range(nr):
                 pert[rows[k]] = 0.0
-            group_force(g, qp, qtp, qref, si, sr, tab, pert)
+            _group_force(g, qp, qtp, qref, si, sr, tab, pert, work)
             factor = f_q if j < n_q else f_v
             for k in range(nr):
                 row = rows[k]
