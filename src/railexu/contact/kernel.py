@@ -947,9 +947,11 @@ def candidate_weights(n, cand_g, cand_h, weights):
 #: virtual penetration ``(1 - PATCH_EPSILON) g_k - g(s)`` there (for a Hertzian circle with
 #: ``eps = 0.5`` exactly Hertz's line load ``1 - (y / b)^2`` over the true width).
 PATCH_EPSILON = 0.55
-#: Step [m] and most steps each way of the sum over the patch (:func:`patch_centre`).
-PATCH_STEP = 2.5e-4
-PATCH_MAX_STEPS = 80
+#: Steps of the sum over the patch (:func:`patch_centre`): a tenth of the patch's half-width
+#: estimated from the curvatures at the minimum, within these bounds [m]; most steps each way.
+PATCH_STEP_MIN = 5.0e-5
+PATCH_STEP_MAX = 5.0e-4
+PATCH_MAX_STEPS = 400
 
 
 @numba.njit(inline="always", **_JIT)
@@ -963,8 +965,9 @@ def _neighbour_share(hump, g_nb, threshold):
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx):
-    """Wheel coordinate ``s`` [m] of the line-load centroid of the patch of minimum ``k``.
+def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
+    """Centroid ``s`` [m] of the line load of the patch of minimum ``k`` on the wheel's
+    coordinate, and the load's variance about it [m^2] (``step``: the grid [m]).
 
     A Hertz point carries the whole force of its patch at the deepest point of the gap. Where
     the gap is nearly flat over millimetres (the S1002 flange root on a 60E1 gauge corner with
@@ -973,20 +976,24 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx):
     direction: the vertical force fell by 118 kN over 20 um and the coach's wheelsets chattered.
     The point where the force acts is therefore the centroid of the patch's line load, the
     virtual penetration ``w(s) = (1 - PATCH_EPSILON) g_k - g(s) > 0`` summed on a grid of
-    ``PATCH_STEP`` anchored at the minimum (a continuous function of the pose: every term is,
+    ``step`` anchored at the minimum (a continuous function of the pose: every term is,
     and the patch ends where ``w`` does). On a circular rail head the normal at the centroid is
     the mean normal of the line load. A neighbouring minimum's side beyond the hump between them
     counts with the weight ``1 - share`` (:func:`_neighbour_share`: 0 while the two patches are
-    separate, 1 when the neighbour dies into this patch), switched over +-``PATCH_STEP`` about
+    separate, 1 when the neighbour dies into this patch), switched over +-``step`` about
     the hump. For a Hertzian patch (gap symmetric about the minimum) the centroid is the minimum.
+    The variance has Sheppard's correction ``- step^2 / 12`` for the grid; for a parabolic gap
+    ``g = -d + B s^2`` it is ``eps d / (5 B)`` (the line load ``eps d - B s^2``), from which the
+    caller takes the patch's curvature.
     """
     s_k = cand_s[k]
     g_k = cand_g[k]
     if not (g_k < 0.0):
-        return s_k
+        return s_k, 0.0
     threshold = (1.0 - PATCH_EPSILON) * g_k
     den = threshold - g_k
     num = den * s_k
+    num2 = den * s_k * s_k
     for direction in (-1, 1):
         factor = 1.0  # weight of the part of the valley being summed
         j = k  # the last minimum passed
@@ -1003,15 +1010,15 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx):
                 hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, 40)
                 crossing = True
         for i in range(1, PATCH_MAX_STEPS + 1):
-            s = s_k + direction * i * PATCH_STEP
+            s = s_k + direction * i * step
             g = _gap_at(s, wtab, rtab, ctx)[0]
             w = threshold - g
             if w <= 0.0 and not crossing:
                 break
             chi = factor
             if crossing:
-                # 0 before the hump, 1 past it (linear over +-PATCH_STEP)
-                x = (direction * (s - hump_s) + PATCH_STEP) / (2.0 * PATCH_STEP)
+                # 0 before the hump, 1 past it (linear over +-step)
+                x = (direction * (s - hump_s) + step) / (2.0 * step)
                 x = min(1.0, max(0.0, x))
                 chi = factor * (1.0 - x * share)
                 if x >= 1.0:
@@ -1031,8 +1038,11 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx):
                             crossing = True
             if w > 0.0:
                 num += chi * w * s
+                num2 += chi * w * s * s
                 den += chi * w
-    return num / den
+    centre = num / den
+    variance = num2 / den - centre * centre - step * step / 12.0
+    return centre, max(variance, step * step / 12.0)
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
@@ -1126,15 +1136,27 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         kwy = -_linear(wtab, 3, ws0, wstep, wn, s_min) / (q * math.sqrt(q))
         kry = -_linear(rtab, 3, ry0, rstep, rn, Py) * inv * inv * inv
         # the point where the force acts, whose normal, radius and velocity are used: the
-        # centroid of the patch's line load (issue 28; the minimum for a symmetric patch)
+        # centroid of the patch's line load (issue 28; the minimum for a symmetric patch); the
+        # lateral relative curvature B of Hertz's ellipse from the spread of that load
         s = s_min
+        b_lat = 0.5 * (kwy + kry)
         if delta > 0.0:
-            s = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx)
+            half_width = math.sqrt(PATCH_EPSILON * delta / max(b_lat, 1.0)) * inv
+            step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, 0.1 * half_width))
+            s, variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
             if s != s_min:
                 F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
                 g_c, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
                 r = r0 + F
                 inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
+                # the approach along the patch's normal: two minima that share one patch have
+                # one normal and (nearly) one depth, so the load moving from one to the other
+                # does not change the force (along its own normal the steep flange minimum had
+                # 0.4 times the root's approach at the same vertical depth)
+                delta = -g * inv
+            # g = -d + B_v s^2 has the variance eps d / (5 B_v); B = B_v cos^3(gamma) in the
+            # contact plane (normal separation g cos(gamma), width s / cos(gamma))
+            b_lat = PATCH_EPSILON * (-g) / (5.0 * variance) * inv * inv * inv
         u = -F1 * tpsi
         w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
@@ -1170,7 +1192,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         fx = 0.0
         fy = 0.0
         if delta > 0.0:
-            kh, alpha_a, alpha_b = hertz_coefficients_nb(htab, 0.5 * kwx, 0.5 * (kwy + kry), e_star)
+            kh, alpha_a, alpha_b = hertz_coefficients_nb(htab, 0.5 * kwx, b_lat, e_star)
             sd = math.sqrt(delta)
             elastic = kh * delta * sd
             if params[P_DAMP_MODEL] == 0.0:
