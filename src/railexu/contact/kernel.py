@@ -25,8 +25,12 @@ b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and i
    minimum with ``g < 0`` is a contact point: one on the tread, or two when tread and flange
    both touch (the seed's Fig. 8); minima sharing one overlap region are weighted
    (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
-c) *Normal force.* Hertz's ellipse and stiffness from the principal curvatures of wheel and rail
-   at the point (:mod:`railexu.contact.hertz`), and the damped force of the seed's eq. (2)
+c) *Normal force.* Each minimum is a patch (:func:`patch_centre`, issue 28): the force acts at
+   the centroid of its load (virtual penetration, Kik and Piotrowski 2008), with the approach
+   along the normal there and Hertz's lateral curvature from the load's spread, the
+   longitudinal one from the wheel at the minimum (:mod:`railexu.contact.hertz`); so two
+   minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch.
+   The damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
    negative.
 d) *Tangential forces.* Creepages and spin from the wheel's velocity at the point; Kalker's
