@@ -30,3 +30,5 @@ for f in eu07_10/lateral_displacement eu07_10/lateral_force bogie_10/lateral_dis
          manchester/contact_points manchester/delta_r manchester/conicity; do
     cp "$out/$f.png" "docs/img/$(echo "$f" | tr '/' '_').png"
 done
+# switches and crossings: slices along a crossing, the wing rail -> nose transfer (docs/switches-and-crossings.md)
+python docs/sc_figures.py docs/img

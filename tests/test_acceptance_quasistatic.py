@@ -69,9 +69,10 @@ def test_wheel_unloading_on_a_twist_matches_the_suspension_by_hand(wagon_on_twis
     assert q0 == pytest.approx(44800.0 * G / 4.0, rel=0.01)  # 44.8 t on four wheels
     # The twist's share above is the hand value within 5 %. The whole unloading of the most
     # unloaded wheel also holds a load shift of the same sign on both wheelsets (not the twist's:
-    # about 4 kN since the axleboxes carry the moment of the wagon's elements 0.29 m above the
-    # axles, issue 26; open, see docs/acceptance-quasistatic.md), and the reported value (the
-    # largest 2 m mean) the wagon's residual sway: both bounded here, not matched.
+    # about 3 kN since the axleboxes carry the moment of the wagon's elements 0.29 m above the
+    # axles, issue 26: both wheelsets drift 5 mm to one side, docs/acceptance-quasistatic.md),
+    # and the reported value (the largest 2 m mean) the wagon's residual sway: both bounded
+    # here, not matched.
     mean_unloading = max((q0 - v) / q0 for v in q.values())
     assert expected / q0 * 0.95 <= mean_unloading <= expected / q0 * 1.2
     assert mean_unloading * 0.99 <= result.unloading <= expected / q0 * 1.25
@@ -196,10 +197,11 @@ def test_yaw_resistance_of_linear_springs_is_the_hand_calculation():
 def _friction_bogie(stick_stiffness_N_per_m: float | None):
     """EU07 with bogie_1 held to the body only by two longitudinal dry-friction sliders of
     20 kN at y = +-1.0 m (the secondary springs' x stiffness and the pivot spring removed)."""
-    vehicle = load_vehicle("eu07").replace(
-        "suspension.secondary_*.stiffness.x", "0 N/m", "suspension.pivot_yaw_*.stiffness",
-        "0 N m/rad", "suspension.pivot_yaw_*.damping", "0 N m s/rad",
-    )  # fmt: skip
+    vehicle = load_vehicle("eu07").replace("suspension.secondary_*.stiffness.x", "0 N/m")
+    # the pivot springs removed (a vehicle file may not give an element without stiffness and
+    # damping)
+    kept = tuple(el for el in vehicle.suspension if not el.name.startswith("pivot_yaw"))
+    vehicle = dataclasses.replace(vehicle, suspension=kept)
     sliders = tuple(
         Friction(f"slider_{side}", ("car_body", "bogie_1"), (3.95, y, 0.95), "x", 20.0e3,
                  stick_stiffness_N_per_m=stick_stiffness_N_per_m)

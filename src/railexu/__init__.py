@@ -18,6 +18,8 @@ cheap; Exudyn, numba and matplotlib are imported only by what needs them)::
 - :func:`critical_speed`, :class:`CriticalSpeedSettings`: linear and nonlinear critical speeds;
 - :func:`load_study`, :func:`run_study`, :class:`StudyResult`: parameter studies;
 - :func:`acceptance`, :class:`AcceptanceResult`: a vehicle through an EN 14363 programme;
+- :func:`wear_loop`, :class:`WearLoopResult`: the wheel profiles worn over a route's mileage
+  (``railexu wear``, docs/wear.md);
 - :class:`TimeSeries`: a run's recorded signals; :func:`shipped_files`: what ships by name;
 - :class:`InputError`: the one exception type for bad input.
 
@@ -59,6 +61,8 @@ _PUBLIC = {
     "shipped_files": "railexu.inputs.catalog",
     "acceptance": "railexu.study.acceptance",
     "AcceptanceResult": "railexu.study.acceptance",
+    "wear_loop": "railexu.study.wear.loop",
+    "WearLoopResult": "railexu.study.wear.loop",
 }
 
 __all__ = [
@@ -74,6 +78,7 @@ __all__ = [
     "TimeSeries",
     "Track",
     "Vehicle",
+    "WearLoopResult",
     "acceptance",
     "contact_check",
     "critical_speed",
@@ -83,6 +88,7 @@ __all__ = [
     "run",
     "run_study",
     "shipped_files",
+    "wear_loop",
     "write_run",
 ]
 
@@ -100,6 +106,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load lazi
     from railexu.study import StudyResult, load_study, run_study
     from railexu.study.acceptance import AcceptanceResult
     from railexu.study.acceptance import run_acceptance as acceptance
+    from railexu.study.wear.loop import WearLoopResult, wear_loop
     from railexu.track.track import Track, load_track
     from railexu.vehicle.vehicle import Vehicle, load_vehicle
 

@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from railexu.assessment.criterion import Criterion, finite_or_none
 from railexu.assessment.filters import scipy_signal
-from railexu.assessment.oscillation import fit_oscillation
+from railexu.assessment.oscillation import GROWTH_PER_PERIOD, fit_oscillation
 from railexu.assessment.signals import amplitude, zero_crossing_wavelength, zero_crossings
 
 FloatArray = NDArray[np.float64]
@@ -64,6 +64,16 @@ NARROW_BAND_HALF_WIDTH = 0.10
 #: tenth of the 1 mm hunting threshold, and 0.1 mrad of angle of attack, the order of the
 #: angle of attack of a wheelset with 0.1 mm lateral motion at a hunting wavelength of 10-20 m).
 OSCILLATION_FLOORS = {"lateral_m": 1.0e-4, "yaw_rad": 1.0e-4}
+#: The floors and tolerances of the oscillation report, written with every verdict (railexu's
+#: assumptions, not a standard's values).
+ASSUMPTIONS = {
+    "source": "railexu's assumptions (docs/assessment.md), not a standard's values",
+    "hunting_threshold": "threshold_m (1 mm by default): a sustained oscillation of the leading "
+    "wheelset at least this large is hunting",
+    "oscillation_floor_lateral_m": OSCILLATION_FLOORS["lateral_m"],
+    "oscillation_floor_angle_of_attack_rad": OSCILLATION_FLOORS["yaw_rad"],
+    "sustained_within_per_period": GROWTH_PER_PERIOD,
+}
 #: The statuses of :func:`~railexu.assessment.oscillation.classify` that are reported.
 REPORTED_OSCILLATIONS = ("sustained", "growing")
 
@@ -93,6 +103,7 @@ class HuntingResult:
             "narrow_band_share": finite_or_none(self.narrow_band_share),
             "threshold_m": finite_or_none(self.threshold_m),
             "oscillations": list(self.oscillations or []),
+            "assumptions": ASSUMPTIONS,
         }
 
 

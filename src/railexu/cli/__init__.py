@@ -35,6 +35,7 @@ from railexu.cli import (
     report,
     run,
     study,
+    wear,
 )
 from railexu.cli.common import (
     EXIT_BUG,
@@ -51,7 +52,8 @@ from railexu.cli.common import parse_range as parse_range
 from railexu.cli.run import format_summary as format_summary
 from railexu.errors import ComputationError, InputError
 
-COMMANDS = (run, contact, creep, critical_speed, study, acceptance, plot, animate, report, listing)
+COMMANDS = (run, contact, creep, critical_speed, study, acceptance, wear, plot, animate, report,
+            listing)  # fmt: skip
 ISSUES_URL = "https://github.com/railexu/railexu/issues"
 
 

@@ -68,8 +68,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def command(args: argparse.Namespace) -> int:
+    from railexu.cli.common import CliError
     from railexu.report.animate import AnimationSettings, animate_run
 
+    if args.wheelset < 1:
+        raise CliError(f"--wheelset {args.wheelset}: wheelsets are numbered from 1 (the leading)")
     settings = AnimationSettings(
         fps=args.fps,
         start_s=args.start,

@@ -149,7 +149,9 @@ def check_option(option: str, value: float) -> float:
     return check_within(option, value, low, high, unit, why, low_open=option in POSITIVE)
 
 
-_NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)")
+#: a value that starts with "-": a negative number, or -inf / -nan (refused by the option's
+#: type with what was expected, not taken for an unknown option)
+_NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
 
 
 def join_negative_values(argv: Sequence[str]) -> list[str]:

@@ -11,6 +11,12 @@ from railexu.errors import ComputationError
 
 #: Largest sweep (lateral positions, amplitudes) the command accepts.
 MAX_SWEEP_POINTS = 10001
+#: Largest lateral displacement of the check [m]: a rail head is about 70 mm wide, so 100 mm
+#: off the centre line a wheel is off its rail.
+MAX_LATERAL_M = 0.1
+#: Largest conicity amplitude [m]: EN 15302 evaluates up to the flangeway clearance, a few
+#: millimetres; 50 mm is far beyond any flange contact.
+MAX_AMPLITUDE_M = 0.05
 
 
 def checked_range(text: str, name: str) -> tuple[float, ...]:
@@ -130,10 +136,42 @@ def _check_options(args: argparse.Namespace) -> None:
         radius = getattr(args, f"radius_{side}")
         if radius is not None:
             check_option("--radius", radius)
+    _check_inclination(args.inclination)
     if not args.flange_back < args.gauge:
         raise CliError(
             f"--flange-back {args.flange_back:g} m: must be less than --gauge {args.gauge:g} m"
         )
+
+
+def _check_inclination(text: str) -> float:
+    """The rail inclination as an angle, refused unless finite and within 0 .. 1:10 (the
+    range of track files, ``railexu.track.schema.MAX_INCLINATION_RAD``)."""
+    from railexu.contact.placement import PlacementError, parse_inclination
+    from railexu.track.schema import MAX_INCLINATION_RAD
+
+    try:
+        angle = parse_inclination(text)
+    except PlacementError as exc:
+        raise CliError(f"--inclination: {exc}") from None
+    if not (math.isfinite(angle) and 0.0 <= angle <= MAX_INCLINATION_RAD):
+        raise CliError(
+            f"--inclination {text!r}: {angle:g} rad, expected 0 .. "
+            f"{MAX_INCLINATION_RAD:g} rad ('none' .. '1:10'; usual: 1:20, 1:40)"
+        )
+    return angle
+
+
+def _check_sweep(
+    values: tuple[float, ...], option: str, low: float, high: float, why: str
+) -> tuple[float, ...]:
+    """Every value of a sweep within ``low`` (exclusive if 0) .. ``high`` [m]."""
+    for v in values:
+        if not (low <= v <= high) or (low == 0.0 and v == 0.0):
+            raise CliError(
+                f"{option} {v:g} m: expected {'> 0' if low == 0.0 else f'>= {low:g}'}"
+                f" and <= {high:g} m ({why})"
+            )
+    return values
 
 
 def command(args: argparse.Namespace) -> int:
@@ -151,8 +189,12 @@ def command(args: argparse.Namespace) -> int:
         friction=args.friction,
         creep_model=args.creep,
     )
-    lateral = checked_range(args.lateral, "--lateral")
-    amplitudes = checked_range(args.amplitudes, "--amplitudes")
+    lateral = _check_sweep(checked_range(args.lateral, "--lateral"), "--lateral",
+                           -MAX_LATERAL_M, MAX_LATERAL_M, "100 mm off centre a wheel is off "
+                           "its rail")  # fmt: skip
+    amplitudes = _check_sweep(checked_range(args.amplitudes, "--amplitudes"), "--amplitudes",
+                              0.0, MAX_AMPLITUDE_M, "EN 15302 amplitudes are a few mm, up to "
+                              "the flangeway clearance")  # fmt: skip
     wheel_left = args.wheel_left or args.wheel
     wheel_right = args.wheel_right or args.wheel
     radius_left = args.radius if args.radius_left is None else args.radius_left

@@ -46,6 +46,14 @@ def add_parser(sub) -> None:
     p.add_argument(
         "--deceleration", type=quantity("m/s^2"), default=0.5, help="ramp deceleration [m/s^2]"
     )
+    p.add_argument("--ramp-settle", type=quantity("m"), default=200.0,
+                   help="ramp: distance at the highest speed before the ramp [m]")  # fmt: skip
+    p.add_argument("--ramp-budget", type=quantity("m"), default=20000.0,
+                   help="ramp: the most distance one ramp may run [m]")  # fmt: skip
+    p.add_argument("--branch-step", type=quantity("m/s"), default=5.0,
+                   help="branch: speed step of the first stage [m/s]")  # fmt: skip
+    p.add_argument("--max-runs", type=int, default=30,
+                   help="branch: the most plateaus in all (its budget)")  # fmt: skip
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a value of the vehicle file")  # fmt: skip
     p.add_argument("--out", required=True, help="output folder")
@@ -78,6 +86,10 @@ def command(args: argparse.Namespace) -> int:
         linear_points=args.linear_points,
         linearization=args.linearization,
         ramp_deceleration_m_per_s2=args.deceleration,
+        ramp_settle_m=args.ramp_settle,
+        ramp_budget_m=args.ramp_budget,
+        branch_step_m_per_s=args.branch_step,
+        max_runs=args.max_runs,
     )
     result = critical_speed(vehicle, track, settings, None if args.quiet else print_messages())
     written = write_critical_speed(result, args.out)
@@ -118,6 +130,7 @@ def summary_lines(result: dict, methods) -> list[str]:
             lines.extend(_linear_lines(section, note))
         else:
             lines.append(f"{label}: {_fmt(result.get(key))}" + (f"  [{note}]" if note else ""))
+            lines.extend(_method_status(method, section))
             if section.get("disturbance"):
                 lines.append(f"  disturbance: {section['disturbance']}")
             if section.get("judged_by"):
@@ -127,6 +140,35 @@ def summary_lines(result: dict, methods) -> list[str]:
                 amp_text = f"{amp * 1e3:.2f} mm" if amp is not None else "-"
                 speed = p["speed_m_per_s"]
                 lines.append(f"    {speed:6.2f} m/s: {p['classification']}, {amp_text}")
+    return lines
+
+
+def _method_status(method: str, section: dict) -> list[str]:
+    """``status: converged, resolution 1.25 m/s`` (branch, ramp) or the bisection bracket; the
+    ramp's two rates and whether they agree."""
+    parts = []
+    if section.get("status"):
+        parts.append(section["status"])
+    res = section.get("resolution_m_per_s")
+    if res is not None:
+        parts.append(f"resolution {res:.2f} m/s")
+    if method == "bisection" and section.get("bracket_m_per_s"):
+        lo, hi = section["bracket_m_per_s"]
+        parts.append(f"bracket {lo:.2f} to {hi:.2f} m/s")
+    lines = [f"  status: {', '.join(parts)}"] if parts else []
+    if method == "bisection" and section.get("run_duration"):
+        lines.append(f"  runs: {section['run_duration']}")
+    for r in section.get("ramps") or []:
+        v = r.get("critical_speed_m_per_s")
+        found = f"{v:.2f} m/s" if v is not None else r.get("note", "not found")
+        lines.append(f"    ramp at {r['deceleration_m_per_s2']:g} m/s^2 over {r['distance_m']:.0f} "
+                     f"m: {found} ({r['status']})")  # fmt: skip
+    if section.get("warning"):
+        lines.append(f"  warning: {section['warning']}")
+    if "rate_independent" in section:
+        same = "agree" if section["rate_independent"] else "DISAGREE"
+        lines.append(f"  the two rates {same} within their resolutions "
+                     f"(difference {section['rate_difference_m_per_s']:.2f} m/s)")  # fmt: skip
     return lines
 
 

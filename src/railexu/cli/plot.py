@@ -58,6 +58,10 @@ def command(args: argparse.Namespace) -> int:
     written = []
     figures = run_figures(ts, summary, title)
     figures.update(_curved_track_figures(ts, summary, title))
+    if "track_elevation_m" in ts.columns:  # a track with a vertical profile
+        from railexu.report.track_figures import vertical_run_figure
+
+        figures["track_vertical"] = vertical_run_figure(ts, str((summary or {}).get("track", "")))
     for name, fig in figures.items():
         written.extend(save_figure(fig, folder / name, formats=formats))
     add_to_manifest(folder, [p.name for p in written])

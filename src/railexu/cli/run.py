@@ -160,6 +160,8 @@ def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
     items = [t.strip().lower() for t in text.split(",") if t.strip()]
     if no_plots or items == ["none"]:
         return ()
+    if not items:  # '' or ',': a scripting slip, not a choice of no figures
+        raise CliError(f"--plots {text!r}: give png, svg (comma-separated) or none")
     for item in items:
         if item not in FORMATS:
             raise CliError(
@@ -228,12 +230,22 @@ def command(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
         progress = None if args.quiet else print_progress()
+        # from here until the manifest says complete, a stop leaves a folder that says it is
+        # incomplete: a signal after the integration, in the assessment, is no exception
+        folder.mark_incomplete()
         try:
             result = run(vehicle, track, settings, progress, warm)
         except RunInterrupted as exc:  # Ctrl-C or SIGTERM: the results so far are written
             if exc.result is None:
+                _say_incomplete(args.out, "before the results were written")
                 raise
             result = exc.result
+        except KeyboardInterrupt:  # after the integration, before the writing
+            _say_incomplete(args.out, "before the results were written")
+            raise
+        except Exception:  # no result (a model that cannot be built): the older folder stays
+            folder.unmark_if_untouched()
+            raise
         for warning in result.summary.get("warnings", []):
             print(f"railexu run: warning: {warning}", file=sys.stderr)
         try:
@@ -242,11 +254,7 @@ def command(args: argparse.Namespace) -> int:
             )
             folder.finish()
         except KeyboardInterrupt:  # Ctrl-C or SIGTERM while writing: the folder says so
-            print(
-                f"railexu run: stopped while writing {args.out}: the folder is marked "
-                "incomplete (railexu report, plot and animate refuse it)",
-                file=sys.stderr,
-            )
+            _say_incomplete(args.out, "while writing the results")
             raise
     finally:
         warm.close()
@@ -254,6 +262,14 @@ def command(args: argparse.Namespace) -> int:
     print(format_summary(result.summary))
     print(f"  wrote {len(written)} files to {args.out}")
     return EXIT_OK if result.status["state"] == "completed" else EXIT_FAILED
+
+
+def _say_incomplete(out: str, when: str) -> None:
+    print(
+        f"railexu run: stopped {when}: {out} is marked incomplete (railexu report, plot and "
+        "animate refuse it)",
+        file=sys.stderr,
+    )
 
 
 def format_summary(summary) -> str:

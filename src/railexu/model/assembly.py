@@ -52,10 +52,13 @@ from railexu.model.forces import (
     generalized_forces_threaded,
     jacobian,
 )
+from railexu.model.sc_tables import sc_kernel_fields
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
 from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
+from railexu.model.vertical_forces import VerticalForces
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
+from railexu.runtime.thread_choice import WINDOW_CALLS, ThreadChoice
 from railexu.runtime.threads import contact_threads, use_threads
 from railexu.track.alignment import Alignment, straight_alignment
 from railexu.track.track import Track
@@ -77,6 +80,11 @@ START_MARGIN_M = 1.0
 #: A free run (traction and braking) ends when its speed falls below this [m/s]: the creepages
 #: are normalised by the speed, and a standing vehicle is outside the model.
 MIN_FREE_SPEED_M_PER_S = 0.5
+#: The vertical profile's loads are set again when the vehicle has run this far since they were
+#: last set [m] (railexu.model.vertical_forces): 1/20 of the 1 m over which the vertical
+#: curvature's jumps are rounded; the gradient changes by at most 0.05 m / R_v between updates
+#: (0.2 per mille at the smallest radius, 250 m).
+VERTICAL_UPDATE_M = 0.05
 #: Natural frequency of the vehicle frame's follower of the speed body in a free run on curved
 #: track [rad/s] (1 Hz, critically damped: a lag of a / w^2 = 2.5 cm at 1 m/s^2).
 FRAME_FOLLOW_RAD_PER_S = 2.0 * math.pi
@@ -157,6 +165,9 @@ class VehicleModel:
         self.traction = traction
         self.alignment: Alignment = getattr(track, "alignment", None) or straight_alignment()
         self.curved = not self.alignment.is_straight
+        vertical = getattr(track, "vertical", None)
+        #: the track's vertical profile (None: level track, no vertical forces)
+        self.vertical = None if vertical is None or vertical.is_level else vertical
         self.contact_params = vehicle.contact
         self.params = vehicle.contact.kernel_vector(self.speed)
 
@@ -246,6 +257,9 @@ class VehicleModel:
         for s, (tab, info) in enumerate(rails):
             self.rtab[s, : tab.shape[0]] = tab
             self.rinfo[s] = info
+        self.sc_fields = sc_kernel_fields(
+            getattr(self.track, "variable_rails", None), self.geometries[0], width
+        )
         self.htab = hertz_table()
         self.ktab = kalker_table_for_poisson(self.contact_params.poisson)
 
@@ -274,6 +288,7 @@ class VehicleModel:
         self._add_wheelsets()
         self._add_suspension()
         self._add_loads()
+        self._add_vertical_loads()
         self._sample_track()
         self._add_rail_masses()
         self._add_contact_element()
@@ -287,6 +302,8 @@ class VehicleModel:
             name: np.asarray(self.mbs.systemData.GetNodeLTGODE2(n), dtype=np.int64)
             for name, n in self.rail_node.items()
         }
+        if self.vertical_forces is not None:
+            self.update_vertical_loads()
         rail_of = {n: name for name, n in self.rail_node.items()}
         self.internal_ltg = (
             np.asarray(self.mbs.systemData.GetNodeLTGODE2(self.internal_node), dtype=np.int64)
@@ -585,6 +602,56 @@ class VehicleModel:
             )
             self.mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=list(load.force_N)))
 
+    def _add_vertical_loads(self) -> None:
+        """On a track with a vertical profile, a force and a torque on every body and wheelset
+        for its gradient and vertical curvature (:mod:`railexu.model.vertical_forces`), set at
+        the start and again every :data:`VERTICAL_UPDATE_M` of run (:meth:`update_vertical_loads`
+        from :meth:`begin_step`)."""
+        from exudyn.itemInterface import LoadForceVector, LoadTorqueVector, MarkerBodyRigid
+
+        self.vertical_forces: VerticalForces | None = None
+        if self.vertical is None:
+            return
+        names = list(self.node)
+        wheelsets = set(self.wheelset_names())
+        # a wheelset's axle is its body's third axis (its spin inertia is about the lateral)
+        pitch = [self.inertia[n][1][2 if n in wheelsets else 1] for n in names]
+        self.vertical_forces = VerticalForces(
+            self.vertical, np.array([self.inertia[n][0] for n in names]), np.array(pitch),
+            self.vehicle.gravity_m_per_s2,
+        )  # fmt: skip
+        self.vertical_loads: list[tuple[str, int, int]] = []
+        for name in names:
+            m = self.mbs.AddMarker(MarkerBodyRigid(bodyNumber=self.body[name]))
+            force = self.mbs.AddLoad(LoadForceVector(markerNumber=m, loadVector=[0.0] * 3))
+            torque = self.mbs.AddLoad(
+                LoadTorqueVector(markerNumber=m, loadVector=[0.0] * 3, bodyFixed=False)
+            )
+            self.vertical_loads.append((name, force, torque))
+
+    def update_vertical_loads(self, t: float = 0.0) -> None:
+        """Set the vertical profile's forces and torques from the current state at time ``t``
+        (each body's distance along the track and forward speed; the vehicle frame's cant roll
+        on curved track): constant until the vehicle has run :data:`VERTICAL_UPDATE_M` further
+        (:meth:`begin_step`), a few centimetres of a profile that changes over metres."""
+        data = self.mbs.systemData
+        q = data.GetODE2Coordinates()
+        qt = data.GetODE2Coordinates_t()
+        s = np.array([self.centre[n][0] + q[self.ltg[n][0]] for n, _, _ in self.vertical_loads])
+        v = np.array([qt[self.ltg[n][0]] for n, _, _ in self.vertical_loads])
+        roll = 0.0
+        if self.curved:
+            from railexu.track.alignment import TAB_FROLL
+
+            start, step, tab = self.align_sampled
+            u = (self.kernel.frame[0] - start) / step
+            roll = float(np.interp(u, np.arange(tab.shape[0]), tab[:, TAB_FROLL]))
+        forces, torques = self.vertical_forces.loads(s, v, roll)
+        self._vertical_next_time_s = t + VERTICAL_UPDATE_M / max(float(np.max(np.abs(v))), 0.5)
+        for k, (_, force, torque) in enumerate(self.vertical_loads):
+            self.mbs.SetLoadParameter(force, "loadVector", forces[k].tolist())
+            self.mbs.SetLoadParameter(torque, "loadVector", torques[k].tolist())
+
     def _sample_track(self) -> None:
         """Irregularities and design geometry sampled along the whole run.
 
@@ -696,6 +763,11 @@ class VehicleModel:
         # half the time of np.array (0.45 against 0.93 us for 42 numbers, twice per call)
         as_array = np.fromiter
 
+        # with threads: the measured choice between the threaded and the one-thread function
+        # (railexu.runtime.thread_choice), fed the wall time of every WINDOW_CALLS calls
+        self._choice_box = choice_box = [None]
+        window = [0, 0.0]
+
         def contact_forces(mbs_, t, item, q, q_t):
             start = clock()
             if set_time is not None:
@@ -704,8 +776,17 @@ class VehicleModel:
                 as_array(q, float, n_coords), as_array(q_t, float, n_coords), data, out, points,
                 ws_force,
             )  # fmt: skip
+            elapsed = clock() - start
             counter[0] += 1.0
-            counter[1] += clock() - start
+            counter[1] += elapsed
+            chooser = choice_box[0]
+            if chooser is not None:
+                window[0] += 1
+                window[1] += elapsed
+                if window[0] >= WINDOW_CALLS:
+                    compiled["forces"] = chooser.window_done(window[1], window[0])
+                    window[0] = 0
+                    window[1] = 0.0
             return out
 
         jac = np.zeros((n_coords, n_coords))
@@ -781,7 +862,7 @@ class VehicleModel:
             ws_local=np.zeros((len(wheelset_names), WL_SIZE)),
             rail_index=rail_index,
             rail_preload=np.ascontiguousarray(self.statics.wheel_loads_N, dtype=float),
-            se_int=se_int, se_real=se_real, se_table=se_table,
+            se_int=se_int, se_real=se_real, se_table=se_table, **self.sc_fields,
         )  # fmt: skip
 
     def set_time(self, t: float) -> None:
@@ -903,6 +984,8 @@ class VehicleModel:
         must reach (prescribed motion: the constraint's offset, the creepages' normalising
         speed), or (free motion) the torques, the normalising speed and the frame's motion.
         Returns False when a free run has covered ``distance_m`` or stopped."""
+        if self.vertical_forces is not None and t_end - h >= self._vertical_next_time_s:
+            self.update_vertical_loads(t_end - h)
         if self.traction is None:
             v_next = self.speed_at(t_end)
             self.mbs.SetObjectParameter(self.speed_constraint, "offset", v_next)
@@ -981,13 +1064,13 @@ class VehicleModel:
         args = (q, qt, self.kernel, self._out, self.points, self.ws_force)
         planned = contact_threads(self.points.shape[0])
         self._threaded = None
+        self._serial_entry = compiled_entry(generalized_forces, *args)
+        self._compiled["forces"] = self._serial_entry
         if planned > 1:
             use_threads(planned)
             self._threaded = (planned, compiled_entry(generalized_forces_threaded, *args))
         if planned > 1 and threads_now:
             self.start_threads(0.0)
-        else:
-            self._compiled["forces"] = compiled_entry(generalized_forces, *args)
 
     @property
     def threads_pending(self) -> bool:
@@ -999,8 +1082,16 @@ class VehicleModel:
         that :meth:`warm_up` prepared (nothing happens if it prepared none)."""
         if self._threaded is None:
             return
-        self.contact_threads, self._compiled["forces"] = self._threaded
+        self.contact_threads, threaded = self._threaded
+        self._compiled["forces"] = threaded
+        self._choice_box[0] = ThreadChoice(self._serial_entry, threaded)
         self.contact_threads_from_s = t
+
+    @property
+    def thread_choice(self) -> ThreadChoice | None:
+        """The measured choice between the threaded and the one-thread force function, once
+        the threads have started (None before and without threads)."""
+        return self._choice_box[0]
 
     def evaluate(self, q_all: np.ndarray, qt_all: np.ndarray, t: float, out, points, ws_force):
         """Evaluate the compiled forces at a full system state and time ``t`` into the given

@@ -103,6 +103,12 @@ WL_FRAME_ROLL = 8  # cant roll of the vehicle frame [rad]
 WL_SIZE = 9
 
 
+#: No switch-and-crossing zone: empty station tables (``KernelData.sc_tab``) and their sides.
+NO_SC_TAB = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
+NO_SC_SIDE = np.full(2, -1, dtype=np.int64)
+NO_SC_INFO = np.zeros((2, 3))
+
+
 class KernelData(NamedTuple):
     """Everything the compiled force functions read besides the state (named, not positional).
 
@@ -141,6 +147,13 @@ class KernelData(NamedTuple):
     se_int: np.ndarray  # nonlinear suspension elements: integer rows (suspension_forces.SI_*)
     se_real: np.ndarray  # their real rows (suspension_forces.SR_*)
     se_table: np.ndarray  # their characteristic tables (n, 2)
+    # switches and crossings (railexu.track.variable_rails): rail tables at stations
+    # sc_start + i sc_step, blended linearly by the wheelset's track position inside the zone
+    sc_start: float = 0.0  # track distance of the first station [m]
+    sc_step: float = 1.0  # distance between stations [m]
+    sc_tab: np.ndarray = NO_SC_TAB  # (n_stations, n_sides, M, columns); no stations: plain
+    sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_tab's axis 1, -1: plain rail
+    sc_info: np.ndarray = NO_SC_INFO  # per side the station tables' grid (y0, step, n)
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -303,7 +316,19 @@ def _work_size(d):
     size = 0
     for w in range(d.winfo.shape[0]):
         size = max(size, K.wheelset_scratch_size(d.winfo[w, 0], d.winfo[w, 1]))
+    if d.sc_tab.shape[0] > 0:  # the blended station tables of both sides, at the end
+        size += 2 * d.sc_tab.shape[2] * d.sc_tab.shape[3]
     return WORK_FIXED + size
+
+
+@numba.njit(**_JIT_NO_REFCOUNT)
+def _blend_station(d, i, t, side, out):
+    """``out = (1 - t) tab_i + t tab_i+1`` of one side's station tables (``out``: scratch)."""
+    a = d.sc_tab[i, d.sc_side[side]]
+    b = d.sc_tab[i + 1, d.sc_side[side]]
+    for r in range(out.shape[0]):
+        for c in range(out.shape[1]):
+            out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -357,11 +382,29 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             rails[4 * side + 1] += q[r + 2 * side + 1]
             rails[4 * side + 2] += qt[r + 2 * side]
             rails[4 * side + 3] += qt[r + 2 * side + 1]
+    rtab_l, rinfo_l, rtab_r, rinfo_r = d.rtab[0], d.rinfo[0], d.rtab[1], d.rinfo[1]
+    end = work.shape[0]
+    n_st = d.sc_tab.shape[0]
+    if n_st > 1:
+        # switches and crossings: inside the zone, the stations' tables blended at the wheelset
+        m, c = d.sc_tab.shape[2], d.sc_tab.shape[3]
+        end -= 2 * m * c
+        u = (d.ws_local[w, WL_S] - d.sc_start) / d.sc_step
+        if u >= 0.0 and u <= n_st - 1.0:
+            i = min(int(u), n_st - 2)
+            if d.sc_side[0] >= 0:
+                rtab_l = work[end : end + m * c].reshape((m, c))
+                _blend_station(d, i, u - i, 0, rtab_l)
+                rinfo_l = d.sc_info[0]
+            if d.sc_side[1] >= 0:
+                rtab_r = work[end + m * c : end + 2 * m * c].reshape((m, c))
+                _blend_station(d, i, u - i, 1, rtab_r)
+                rinfo_r = d.sc_info[1]
     K.wheelset_contact_with_scratch(
-        d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], d.rtab[0], d.rinfo[0],
+        d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], rtab_l, rinfo_l,
         d.wtab[d.wtab_index[w, 1]], d.winfo[w, 1],
-        d.rtab[1], d.rinfo[1], d.htab, d.ktab, d.params, state, rails, points[w], force,
-        work[WORK_FIXED:],
+        rtab_r, rinfo_r, d.htab, d.ktab, d.params, state, rails, points[w], force,
+        work[WORK_FIXED:end],
     )  # fmt: skip
     if elastic:
         # reaction on the rail masses, and the static wheel load they carry at rest (their

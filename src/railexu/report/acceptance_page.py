@@ -104,7 +104,19 @@ def _zone_html(name: str, zone: dict, escape, table, raw) -> str:
         ))  # fmt: skip
     header = ("criterion", "estimate", "limit", "unit", "verdict", "method", "assumption",
               "clause", "note")  # fmt: skip
-    return head + table(rows, header)
+    return head + table(rows, header) + _transition_comfort_html(zone, escape)
+
+
+def _transition_comfort_html(zone: dict, escape) -> str:
+    """EN 12299 P_CT of the zone's sections' transitions (reported, not judged)."""
+    pct = zone.get("curve_transition_comfort") or {}
+    if not pct.get("sections"):
+        return ""
+    return (f"<p>Comfort on the sections' entry transitions ({escape(pct.get('clause') or '')}"
+            f"{', railexu assumption' if pct.get('assumption') else ''}): largest P_CT "
+            f"{_text(pct.get('max_P_CT_standing_percent'))} % standing, "
+            f"{_text(pct.get('max_P_CT_seated_percent'))} % seated over "
+            f"{len(pct['sections'])} sections (no limit).</p>")  # fmt: skip
 
 
 def _scaled(value, factor: float):

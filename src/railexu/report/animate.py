@@ -71,14 +71,37 @@ class AnimationSettings:
     def __post_init__(self) -> None:
         if not 1.0 <= self.fps <= 60.0:
             raise InputError(f"frame rate {self.fps:g} fps: expected 1 .. 60", key="--fps")
-        if not self.playback > 0.0:
-            raise InputError(f"playback {self.playback:g}: expected > 0", key="--playback")
-        if not self.exaggeration >= 1.0:
-            raise InputError(
-                f"exaggeration {self.exaggeration:g}: expected >= 1", key="--exaggeration"
-            )
-        if self.force_scale_mm_per_kN is not None and not self.force_scale_mm_per_kN > 0.0:
-            raise InputError("the force scale must be > 0 mm/kN", key="--force-scale")
+        if not PLAYBACK_RANGE[0] <= self.playback <= PLAYBACK_RANGE[1]:
+            raise InputError(f"playback {self.playback:g}: expected {PLAYBACK_RANGE[0]:g} .. "
+                             f"{PLAYBACK_RANGE[1]:g} (a thousand times slower .. faster)",
+                             key="--playback")  # fmt: skip
+        if not 1.0 <= self.exaggeration <= MAX_EXAGGERATION:
+            raise InputError(f"exaggeration {self.exaggeration:g}: expected 1 .. "
+                             f"{MAX_EXAGGERATION:g} (1 mm shown as 1 m)",
+                             key="--exaggeration")  # fmt: skip
+        scale = self.force_scale_mm_per_kN
+        if scale is not None and not FORCE_SCALE_RANGE[0] <= scale <= FORCE_SCALE_RANGE[1]:
+            raise InputError(f"force scale {scale:g} mm/kN: expected {FORCE_SCALE_RANGE[0]:g} .. "
+                             f"{FORCE_SCALE_RANGE[1]:g} mm/kN (a 100 kN wheel load 0.1 mm .. "
+                             "100 m long)", key="--force-scale")  # fmt: skip
+        if not DPI_RANGE[0] <= self.dpi <= DPI_RANGE[1]:
+            raise InputError(f"resolution {self.dpi} dpi: expected {DPI_RANGE[0]} .. "
+                             f"{DPI_RANGE[1]}", key="--dpi")  # fmt: skip
+        for key, value in (("--start", self.start_s), ("--end", self.end_s)):
+            if value is not None and not value >= 0.0:
+                raise InputError(f"{value:g} s: a run's time starts at 0 s", key=key)
+
+
+#: Allowed playback factors: a thousand times slower to a thousand times faster.
+PLAYBACK_RANGE = (1.0e-3, 1.0e3)
+#: Largest exaggeration of the plan view: 1 mm of lateral motion shown as 1 m.
+MAX_EXAGGERATION = 1.0e3
+#: Allowed arrow scales [mm/kN]: a 100 kN wheel load from 0.1 mm to 100 m long.
+FORCE_SCALE_RANGE = (1.0e-3, 1.0e3)
+#: Allowed frame resolutions [dpi]: 10 (a thumbnail) to 600 (print quality).
+DPI_RANGE = (10, 600)
+#: Most frames of one animation (50 min at 20 fps): more is a playback or window mistake.
+MAX_FRAMES = 60_000
 
 
 def frame_indices(time_s: np.ndarray, settings: AnimationSettings) -> np.ndarray:
@@ -95,6 +118,11 @@ def frame_indices(time_s: np.ndarray, settings: AnimationSettings) -> np.ndarray
             key="--start/--end",
         )
     step = settings.playback / settings.fps
+    frames = (min(t1, t[-1]) - max(t0, t[0])) / step
+    if frames > MAX_FRAMES:
+        raise InputError(f"{frames:.3g} frames at playback {settings.playback:g} and "
+                         f"{settings.fps:g} fps; at most {MAX_FRAMES}: a larger --playback or a "
+                         "shorter --start/--end window", key="--playback")  # fmt: skip
     wanted = np.arange(max(t0, t[0]), min(t1, t[-1]) + 0.5 * step, step)
     idx = np.clip(np.searchsorted(t, wanted), 0, t.size - 1)
     prev = np.clip(idx - 1, 0, t.size - 1)

@@ -108,6 +108,7 @@ class OutputFolder:
         self._lock = None
         self._listed: set[str] = set()  # the files of the incomplete manifest
         self._marked = False
+        self._previous: bytes | None = None  # the manifest before this job marked the folder
 
     def prepare(self) -> OutputFolder:
         """Check, create and lock the folder; refuse one that holds another kind of output."""
@@ -147,6 +148,7 @@ class OutputFolder:
         file not yet listed is added."""
         if not self._marked:
             self._listed = set(_read_manifest(self.path))
+            self._previous = _read_bytes(self.path / MANIFEST)
         new = set(names) - self._listed
         if self._marked and not new:
             return
@@ -154,6 +156,20 @@ class OutputFolder:
         manifest = {"kind": self.kind, "complete": False, "files": sorted(self._listed)}
         _write_manifest(self.path, manifest)
         self._marked = True
+
+    def unmark_if_untouched(self) -> None:
+        """Put back the manifest this job replaced by its incomplete one (or remove that one)
+        if the job has not recorded a file yet: a job that failed before writing anything (bad
+        input found late, no equilibrium) leaves the older job's folder as it was."""
+        if not self._marked or self.written:
+            return
+        manifest = self.path / MANIFEST
+        if self._previous is None:
+            manifest.unlink(missing_ok=True)
+        else:
+            with atomic_path(manifest) as tmp:
+                tmp.write_bytes(self._previous)
+        self._marked = False
 
     def write_text(self, name: str, text: str) -> Path:
         """Write a text file atomically."""
@@ -268,6 +284,13 @@ def _write_manifest(folder: Path, manifest: dict) -> None:
         raise InputError(
             f"cannot write {folder / MANIFEST}: {exc.strerror or exc}", key="--out"
         ) from None
+
+
+def _read_bytes(path: Path) -> bytes | None:
+    try:
+        return path.read_bytes()
+    except OSError:
+        return None
 
 
 def _read_manifest(path: Path) -> list[str]:

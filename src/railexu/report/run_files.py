@@ -124,6 +124,11 @@ def _figure_jobs(
     if alignment is not None and not alignment.is_straight:
         builders["track"] = partial(_track_figure, alignment, result.track.name)
         builders["curving"] = partial(_curving_figure, ts, alignment, title)
+    if "track_elevation_m" in ts.columns:
+        builders["track_vertical"] = partial(_vertical_figure, ts, result.track.name)
+    rails = getattr(result.track, "variable_rails", None)
+    if rails is not None:
+        builders["crossing"] = partial(_crossing_figure, ts, rails.zone_m(), title)
     jobs = []
     for name, build in builders.items():
         for fmt in formats:
@@ -159,10 +164,22 @@ def _track_figure(alignment, track_name: str):
     return track_figure(alignment, track_name)
 
 
+def _vertical_figure(ts, track_name: str):
+    from railexu.report.track_figures import vertical_run_figure
+
+    return vertical_run_figure(ts, track_name)
+
+
 def _curving_figure(ts, alignment, title: str):
     from railexu.report.curving_figures import curving_figure
 
     return curving_figure(ts, alignment, title)
+
+
+def _crossing_figure(ts, zone_m, title: str):
+    from railexu.report.sc_figures import crossing_figure
+
+    return crossing_figure(ts, zone_m, title)
 
 
 def _save(stem: Path, build: Callable, formats: tuple[str, ...]) -> None:

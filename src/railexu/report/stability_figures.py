@@ -154,7 +154,7 @@ def _nonlinear_figure(result: dict, title: str) -> Figure:
     ax = fig.subplots()
     if ramp and ramp.get("speeds_m_per_s"):
         ax.plot(ramp["speeds_m_per_s"], np.asarray(ramp["amplitude_m"]) * 1e3, ".", ms=3,
-                color="0.5", label="ramp: amplitude per half period")  # fmt: skip
+                color="0.5", label="ramp: fitted amplitude per window")  # fmt: skip
         if ramp.get("critical_speed_m_per_s"):
             ax.axvline(ramp["critical_speed_m_per_s"], color="tab:orange", ls="--",
                        label=f"ramp: {ramp['critical_speed_m_per_s']:.1f} m/s")  # fmt: skip

@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 if TYPE_CHECKING:
     from railexu.track.alignment import Alignment
+    from railexu.track.vertical import VerticalAlignment
 
 #: Colours of the section kinds (background bands).
 SECTION_COLOURS = {"curve": "#f4d6c6", "transition": "#fbeed9", "measured": "#e8e8f4"}
@@ -54,4 +55,68 @@ def track_figure(alignment: Alignment, title: str = "", step_m: float = 0.5) -> 
     ax2.plot(s, alignment.cant(s) * 1e3, color="tab:orange", ls="--", label="cant")
     ax2.set_ylabel("cant [mm] (+ right rail higher)", color="tab:orange")
     ax1.set_title("curvature and cant (shaded: transitions, curves)")
+    return fig
+
+
+def vertical_profile_figure(
+    vertical: VerticalAlignment, title: str = "", s_range_m: tuple[float, float] | None = None
+) -> Figure:
+    """Elevation, gradient and vertical curvature against distance (vertical curves shaded),
+    over ``s_range_m`` (default: the profile's stations)."""
+    lo, hi = s_range_m if s_range_m is not None else (vertical.grid_m[0], vertical.end_m)
+    if not hi > lo:
+        hi = lo + 1.0
+    s = np.linspace(lo, hi, 1000)
+    spans = [(c.start_m, c.end_m) for c in vertical.curves if c.end_m >= lo and c.start_m <= hi]
+    return _profile_figure(
+        s, vertical.elevation(s), 1e3 * vertical.gradient_at(s), vertical.curvature(s), spans,
+        f"{title}: vertical profile, {vertical.kind}".lstrip(": "),
+    )  # fmt: skip
+
+
+def vertical_run_figure(ts, title: str = "") -> Figure:
+    """The vertical profile under a run's leading wheelset, from its time series
+    (``track_elevation_m``, ``track_gradient_per_mille``, ``track_vertical_curvature_1_per_m``
+    against ``ws1_s_m``): ``railexu run`` and ``railexu plot`` draw the same figure."""
+    s = np.asarray(ts["ws1_s_m"], dtype=float)
+    kappa = np.asarray(ts["track_vertical_curvature_1_per_m"], dtype=float)
+    # in a vertical curve: R_v below 100 km (the rounded curvature's tails, 1 m Gaussian at the
+    # curve's ends, are shaded from about 2 m before the end of a 1500 m curve)
+    curved = np.abs(kappa) > 1e-5
+    spans = []
+    if np.any(curved):  # runs of samples in a vertical curve
+        edges = np.flatnonzero(np.diff(curved.astype(int))) + 1
+        for part in np.split(np.arange(s.size), edges):
+            if curved[part[0]]:
+                spans.append((float(s[part[0]]), float(s[part[-1]])))
+    head = "vertical profile under the leading wheelset"
+    head = f"{title}: {head}" if title else head
+    return _profile_figure(
+        s, np.asarray(ts["track_elevation_m"], dtype=float),
+        np.asarray(ts["track_gradient_per_mille"], dtype=float), kappa, spans, head,
+    )  # fmt: skip
+
+
+def _profile_figure(s, elevation_m, gradient_per_mille, curvature_1_per_m, spans, head: str):
+    """Three axes against distance: elevation [m], gradient [per mille], curvature [1/km]."""
+    fig = Figure(figsize=(10, 8))
+    fig.subplots_adjust(left=0.1, right=0.95, bottom=0.07, top=0.93, hspace=0.35)
+    rows = (
+        (elevation_m, "elevation [m]", "top of rail on the centre line"),
+        (gradient_per_mille, "gradient [per mille] (+ rising)", "gradient"),
+        (1e3 * np.asarray(curvature_1_per_m), "vertical curvature [1/km] (+ sag)",
+         "vertical curvature = 1 / R_v"),
+    )  # fmt: skip
+    axes = []
+    for k, (values, label, what) in enumerate(rows):
+        ax = fig.add_subplot(3, 1, k + 1, sharex=axes[0] if axes else None)
+        for lo, hi in spans:
+            ax.axvspan(lo, hi, color=SECTION_COLOURS["curve"], lw=0)
+        ax.plot(s, values, color="k", lw=1.2)
+        ax.set_ylabel(label)
+        ax.set_title(what, fontsize=10)
+        ax.grid(True, alpha=0.4)
+        axes.append(ax)
+    axes[-1].set_xlabel("distance along the track [m]")
+    fig.suptitle(f"{head} (shaded: vertical curves)")
     return fig

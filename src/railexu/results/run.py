@@ -38,7 +38,7 @@ __all__ = ["RunResult", "RunSettings", "print_progress", "run"]
 
 #: The facts of the run that the summary carries after the assessment, in this order.
 _FACTS = ("timings_s", "solver", "settings", "vehicle", "track", "curving", "warnings",
-          "longitudinal")  # fmt: skip
+          "longitudinal", "curve_transitions", "switches_crossings")  # fmt: skip
 
 
 def run(
@@ -110,12 +110,15 @@ class AssessmentInputs:
     track_irregular: bool
     alignment: Alignment | None  # curved track only
     flange_height_m: float | None = None  # flange tip above the tape circle (first wheel)
+    placements: tuple = ()  # measurement points (results.transition_comfort.PointPlacement)
+    sc_zone_m: tuple[float, float] | None = None  # a switch-and-crossing zone (issue 29)
 
 
 def assessment_inputs(result: RunResult) -> AssessmentInputs:
     """The :class:`AssessmentInputs` of a simulated run."""
     model, vehicle, settings = result.model, result.vehicle, result.settings
     order = wheelset_order(vehicle)
+    rails = getattr(result.track, "variable_rails", None)
     return AssessmentInputs(
         wheelset_names=[vehicle.wheelsets[i].name for i in order],
         speed_m_per_s=settings.speed_m_per_s,
@@ -128,6 +131,22 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         track_irregular=result.track.irregularity.type != "none",
         alignment=model.alignment if model.curved else None,
         flange_height_m=_flange_height_m(model),
+        placements=_placements(vehicle, order),
+        sc_zone_m=None if rails is None else rails.zone_m(),
+    )
+
+
+def _placements(vehicle, order: list[int]) -> tuple:
+    """Each measurement point's body and its and the body's distance behind the leading
+    wheelset (m), for the curve-transition comfort."""
+    from railexu.results.transition_comfort import PointPlacement
+
+    lead = vehicle.wheelsets[order[0]].position_x_m if order else 0.0
+    bodies = {b.name: b.position_m[0] for b in vehicle.bodies}
+    return tuple(
+        PointPlacement(p.name, p.body, lead - p.position_m[0], lead - bodies[p.body])
+        for p in vehicle.measurement_points
+        if p.body in bodies
     )
 
 
@@ -173,6 +192,16 @@ def summarize_run(
     if inputs.alignment is not None:
         window = (summary.window.from_m, summary.window.to_m, summary.window.rule)
         facts["curving"] = curving_statistics(timeseries, inputs.alignment, names, window)
+        if inputs.placements:
+            from railexu.results.transition_comfort import curve_transition_comfort
+
+            facts["curve_transitions"] = curve_transition_comfort(
+                timeseries, inputs.alignment, list(inputs.placements)
+            )
+    if inputs.sc_zone_m is not None:
+        from railexu.simulation.sc_outputs import crossing_summary
+
+        facts["switches_crossings"] = crossing_summary(timeseries, inputs.sc_zone_m, len(names))
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]

@@ -28,6 +28,7 @@ COMPILED_SOURCES = (
     "contact/kernel.py",
     "contact/kik_piotrowski.py",
     "contact/polach.py",
+    "contact/wear/patch.py",
     "model/body_points.py",
     "model/forces.py",
     "model/record_row.py",

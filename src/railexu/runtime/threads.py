@@ -16,6 +16,8 @@ operations in the same order: the same results to the last bit). The policy:
   OpenMP's thread spins between the force function's calls and would otherwise hold the core
   that process is waiting for (:func:`railexu.simulation.simulate.simulate`'s
   ``contact_threads_when``).
+- **Left while a busy machine makes them slower than one thread**, measured while the run goes
+  on (:mod:`railexu.runtime.thread_choice`).
 - **Never in a forked child** (:func:`run_serially_in_this_process`): GNU OpenMP cannot start
   its threads in a process forked from one where they ran. railexu's forked children (the warm
   process, the figure writer of :mod:`railexu.report.file_jobs`) only assess and draw, and are

@@ -229,25 +229,63 @@ def check_run_within_track(vehicle, track, settings) -> None:
     Raises:
         InputError: naming ``start`` or ``distance``, the end of the geometry and what fits.
     """
+    check_run_within_vertical(vehicle, track, settings)
     alignment = getattr(track, "alignment", None)
     if alignment is None or alignment.is_straight:
         return
-    xs = [w.position_x_m for w in vehicle.wheelsets]
-    wheelbase_m = max(xs) - min(xs)
+    wheelbase_m = _wheelbase_m(vehicle)
     start_m = float(track.start_m)
     end_m = float(alignment.end_m)
-    needed_m = start_m + START_CLEARANCE_M + wheelbase_m + float(settings.distance_m)
     if start_m + START_CLEARANCE_M + wheelbase_m >= end_m:
         raise InputError(
             f"the vehicle ({wheelbase_m:.3g} m between its outer wheelsets) placed at "
             f"{start_m:g} m is beyond the end of the track's geometry at {end_m:g} m",
             source=str(track.source or "track"), key="start",
         )  # fmt: skip
+    _check_distance_fits(wheelbase_m, start_m, settings, end_m, "geometry", "lengthen the geometry")
+
+
+def check_run_within_vertical(vehicle, track, settings) -> None:
+    """Refuse a run whose wheelsets would leave a vertical profile given by stations or
+    measured (``docs/curving.md``, "Vertical alignment"): before its first and beyond its last
+    station it could only continue on the end gradient, a profile the file does not describe.
+    A constant gradient has no ends.
+
+    Raises:
+        InputError: naming ``start`` or ``distance``, the profile's ends and what fits.
+    """
+    vertical = getattr(track, "vertical", None)
+    if vertical is None or vertical.kind not in ("stations", "measured"):
+        return
+    wheelbase_m = _wheelbase_m(vehicle)
+    rear_m = float(track.start_m) + START_CLEARANCE_M
+    first_m, end_m = float(vertical.grid_m[0]), float(vertical.end_m)
+    if rear_m < first_m - 1e-9 or rear_m + wheelbase_m >= end_m:
+        raise InputError(
+            f"the vehicle's rearmost wheelset at {rear_m:g} m (start + {START_CLEARANCE_M:g} m) "
+            f"is outside the track's vertical profile, {first_m:g} m to {end_m:g} m",
+            source=str(track.source or "track"), key="start",
+        )  # fmt: skip
+    _check_distance_fits(
+        wheelbase_m, float(track.start_m), settings, end_m, "vertical profile", "add a station"
+    )
+
+
+def _wheelbase_m(vehicle) -> float:
+    """The distance between the vehicle's outer wheelsets [m]."""
+    xs = [w.position_x_m for w in vehicle.wheelsets]
+    return max(xs) - min(xs)
+
+
+def _check_distance_fits(wheelbase_m, start_m, settings, end_m, what, remedy) -> None:
+    """Refuse a run distance that takes the leading wheelset beyond ``end_m`` [m], the end of
+    the track's ``what`` (the key ``run.distance``, with what fits and ``remedy``)."""
+    needed_m = start_m + START_CLEARANCE_M + wheelbase_m + float(settings.distance_m)
     if needed_m > end_m + 1e-9:
         fits_m = end_m - start_m - START_CLEARANCE_M - wheelbase_m
         raise InputError(
             f"{float(settings.distance_m):g} m from {start_m:g} m takes the leading wheelset to "
-            f"{needed_m:g} m, beyond the end of the track's geometry at {end_m:g} m; at most "
-            f"{fits_m:.4g} m fit (or lengthen the geometry)",
+            f"{needed_m:g} m, beyond the end of the track's {what} at {end_m:g} m; at most "
+            f"{fits_m:.4g} m fit (or {remedy})",
             key="run.distance",
         )

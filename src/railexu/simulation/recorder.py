@@ -36,7 +36,9 @@ from railexu.model.record_row import ROW_OFF_TRACK, ROW_WHEEL_ROSE, derailment, 
 from railexu.operation.run_settings import RunSettings
 from railexu.simulation.curving import track_columns
 from railexu.simulation.longitudinal import LongitudinalRecord
+from railexu.simulation.sc_outputs import sc_columns
 from railexu.simulation.timeseries import TimeSeries
+from railexu.track.vertical import vertical_columns
 from railexu.vehicle.vehicle import Vehicle
 
 #: Per contact point in the time series (``--contact-outputs``): ``ws{i}_{side}_p{k}_<field>``
@@ -373,6 +375,11 @@ class Recorder:
             track_columns(self.model.alignment, cols["ws1_s_m"], speed,
                           self.vehicle.gravity_m_per_s2)
         )  # fmt: skip
+        if getattr(self.model, "vertical", None) is not None:
+            cols.update(vertical_columns(self.model.vertical, cols["ws1_s_m"]))
+        # switches and crossings: forces, contact position and Tgamma per rail (issue 29)
+        rails = getattr(self.model.track, "variable_rails", None)
+        cols.update(sc_columns(rails, self.model.geometries[0], pts, s_ws))
         return TimeSeries(cols)
 
     @staticmethod

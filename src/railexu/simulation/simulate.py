@@ -295,7 +295,7 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
             return record(t)
         return True
 
-    if settings.speed_varies:
+    if settings.speed_varies or getattr(model, "vertical_forces", None) is not None:
         mbs.SetPreStepUserFunction(pre_step)
     mbs.SetPostStepUserFunction(post_step)
     solver_type = (
@@ -370,9 +370,25 @@ def _solver_statistics(model: VehicleModel) -> dict:
             "contact_threads": int(model.contact_threads),
             # the simulated time from which they ran (null: never)
             "contact_threads_from_s": model.contact_threads_from_s,
+            # the share of the force calls made on the threads after that, and how often the
+            # measured choice (railexu.runtime.thread_choice) switched between them and one
+            # thread (a busy machine makes the threads slower than one thread)
+            **_thread_choice_facts(model),
         }
     except (KeyError, AttributeError):
         return {}
+
+
+def _thread_choice_facts(model: VehicleModel) -> dict:
+    """``contact_threads_share`` and ``contact_thread_switches`` of a run whose contacts had
+    threads (empty without)."""
+    choice = getattr(model, "thread_choice", None)
+    if choice is None:
+        return {}
+    return {
+        "contact_threads_share": round(choice.threaded_share(), 4),
+        "contact_thread_switches": int(choice.switches),
+    }
 
 
 def flange_angle_rad(model: VehicleModel) -> float:

@@ -42,6 +42,7 @@ from railexu.stability.analysis import (
     compare_linear_nonlinear,
     critical_speed,
 )
+from railexu.stability.branch import branch_critical_speed
 from railexu.stability.linear import (
     HUNTING_MODES,
     MODE_NAMES,
@@ -55,11 +56,11 @@ from railexu.stability.linear import (
 )
 from railexu.stability.nonlinear import (
     bisection_critical_speed,
-    branch_critical_speed,
     classify_run,
+    classify_window,
     nonlinear_run_is_stable,
-    ramp_critical_speed,
 )
+from railexu.stability.ramp import ramp_critical_speed
 from railexu.stability.settings import (
     CRITICAL_SPEED_KEYS,
     LINEARIZATIONS,
@@ -85,6 +86,7 @@ __all__ = [
     "bisection_critical_speed",
     "branch_critical_speed",
     "classify_run",
+    "classify_window",
     "body_roles",
     "compare_linear_nonlinear",
     "critical_speed",

@@ -7,12 +7,10 @@ from collections.abc import Callable
 from dataclasses import asdict
 
 from railexu.jsonable import jsonable
+from railexu.stability.branch import branch_critical_speed
 from railexu.stability.linear import HUNTING_MODES, linear_stability
-from railexu.stability.nonlinear import (
-    bisection_critical_speed,
-    branch_critical_speed,
-    ramp_critical_speed,
-)
+from railexu.stability.nonlinear import bisection_critical_speed
+from railexu.stability.ramp import ramp_critical_speed
 from railexu.stability.settings import CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle

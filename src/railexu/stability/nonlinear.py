@@ -1,6 +1,6 @@
-"""Nonlinear critical speed: the limit-cycle branch followed as speed falls (:func:`branch_
-critical_speed`), bisection between a stable and an unstable run after a lateral disturbance,
-and the ramp method (the speed at which a hunting limit cycle vanishes on a slow deceleration).
+"""Nonlinear critical speed by bisection between a stable and an unstable run after a lateral
+disturbance, and the growth-rate classification that it, the limit-cycle branch
+(:mod:`railexu.stability.branch`) and the ramp (:mod:`railexu.stability.ramp`) share.
 
 Every run is judged by the growth rate of its oscillation (:func:`classify_run`: the fitted
 envelope of :func:`railexu.assessment.oscillation.fit_oscillation` over the last part of the
@@ -62,14 +62,23 @@ def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
     t = ts.time_s
     start = t[0] + (1.0 - settings.fit_fraction) * (t[-1] - t[0])
     inside = t >= start
+    signals = {f"ws{i}": ts[f"ws{i}_lateral_m"][inside] for i in ts.wheelset_indices()}
+    return classify_window(t[inside], signals, settings)
+
+
+def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSettings) -> dict:
+    """Classify the wheelsets' lateral displacements ``lateral_m`` (name -> values at the times
+    ``t_s``, s) over their whole window by the growth rate of the fitted envelope; the rules
+    and the returned entries are those of :func:`classify_run` (which calls this on the last
+    ``fit_fraction`` of a run; the branch and ramp methods on windows of one run)."""
     best = None
-    for i in ts.wheelset_indices():
-        fit = fit_oscillation(t[inside], ts[f"ws{i}_lateral_m"][inside], settings.floor_m)
+    for name, y in lateral_m.items():
+        fit = fit_oscillation(t_s, y, settings.floor_m)
         if best is None or fit.amplitude > best[1].amplitude:
-            best = (i, fit)
+            best = (name, fit)
     if best is None:
         return {"classification": "no wheelsets", "stable": True}
-    i, fit = best
+    name, fit = best
     status = {"sustained": "limit cycle"}.get(fit.status, fit.status)
     if status == "limit cycle" and fit.amplitude < settings.limit_cycle_floor_m:
         status = "small limit cycle"
@@ -83,7 +92,8 @@ def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
         "growth_rate_per_s": fit.growth_rate_per_s,
         "growth_per_period": fit.growth_per_period,
         "frequency_Hz": fit.frequency_Hz,
-        "wheelset": f"ws{i}",
+        "fit_periods": (t_s[-1] - t_s[0]) * fit.frequency_Hz if fit.frequency_Hz else None,
+        "wheelset": name,
         "fit_window_s": list(fit.window_s) if fit.window_s else None,
     }
 
@@ -115,7 +125,9 @@ def nonlinear_run_is_stable(
     offset = settings.initial_lateral_m if offset_m is None else offset_m
     result = _run_at(vehicle, track, speed, settings, offset)
     state = result.status["state"]
-    base = {"speed_m_per_s": speed, "initial_lateral_m": offset, "state": state}
+    base = {"speed_m_per_s": speed, "initial_lateral_m": offset, "state": state,
+            "distance_m": settings.distance_m,
+            "duration_s": settings.distance_m / speed}  # fmt: skip
     if state not in COMPLETED_STATES:
         return {**base, "stable": False, "classification": state, "amplitude_m": None,
                 "reason": result.status["reason"]}  # fmt: skip
@@ -136,7 +148,9 @@ def _judgement(settings: CriticalSpeedSettings) -> str:
         f"{settings.floor_m * 1e3:g} mm, or a limit cycle of at least "
         f"{settings.limit_cycle_floor_m * 1e3:g} mm: unstable; decaying, below "
         f"{settings.floor_m * 1e3:g} mm or a smaller limit cycle: stable; +-1 % per period "
-        "counts as a limit cycle)"
+        "counts as a limit cycle; the fit resolves the growth to about 0.13 / N per period over "
+        "N periods (fit_periods): at least 16 periods are needed for the 1 % band); the floors "
+        "and the 1 % band are railexu's assumptions"
     )
 
 
@@ -167,6 +181,10 @@ def bisection_critical_speed(
         "initial_lateral_m": settings.initial_lateral_m,
         "disturbance": f"initial lateral offset of the whole vehicle, "
         f"{settings.initial_lateral_m * 1e3:g} mm",
+        "run_distance_m": settings.distance_m,
+        "run_duration": f"{settings.distance_m:g} m per run, "
+        f"{settings.distance_m / settings.speed_max_m_per_s:.2f} s at the highest speed to "
+        f"{settings.distance_m / settings.speed_min_m_per_s:.2f} s at the lowest",
         "judged_by": _judgement(settings),
     }
     if test(hi):
@@ -197,180 +215,3 @@ def _run_text(r: dict) -> str:
     if r.get("growth_per_period") is not None:
         text += f", growth {r['growth_per_period']:+.3f}/period, {r['frequency_Hz']:.2f} Hz"
     return text + ")"
-
-
-def branch_critical_speed(
-    vehicle: Vehicle,
-    track: Track | None = None,
-    settings: CriticalSpeedSettings | None = None,
-    progress: Callable[[str], None] | None = None,
-) -> dict:
-    """Nonlinear critical speed from the limit-cycle branch, followed as speed falls.
-
-    Stepwise continuation: at ``speed_max`` a run from the disturbance ``initial_lateral_m``
-    settles; each lower speed (steps of ``branch_step_m_per_s``) starts from a lateral offset
-    of the whole vehicle equal to the amplitude found at the speed above (at least
-    ``initial_lateral_m / 4``), runs ``distance_m`` and is classified by the growth rate of its
-    fitted envelope (:func:`classify_run`). Where the limit cycle is lost (the oscillation
-    decays), the step is halved between the last speed with a limit cycle and the first without
-    it, down to ``tolerance_m_per_s``. The nonlinear critical speed is the lowest speed with a
-    limit cycle (or a growing oscillation). At most ``max_runs`` runs: a branch not closed
-    within them says so (``converged`` False).
-
-    Returns ``critical_speed_m_per_s``, ``bracket_m_per_s`` ([highest speed without, lowest
-    with a limit cycle]), ``branch``: per run speed, classification, amplitude (fitted, of the
-    deciding wheelset), growth rate, frequency and the offset it started from, ``converged``,
-    ``note``, the disturbance and the judgement used. A restart from an offset of the whole
-    vehicle is not the limit cycle's state itself: where a limit cycle exists, the run settles
-    onto it within the distance run (checked by its growth rate)."""
-    settings = settings or CriticalSpeedSettings()
-    track = track or ideal_straight_track()
-    points: list[dict] = []
-    out = {
-        "critical_speed_m_per_s": None,
-        "bracket_m_per_s": None,
-        "branch": points,
-        "converged": False,
-        "disturbance": f"initial lateral offset {settings.initial_lateral_m * 1e3:g} mm at "
-        f"{settings.speed_max_m_per_s:g} m/s; each lower speed restarts from the amplitude found "
-        "at the speed above",
-        "judged_by": _judgement(settings),
-        "max_runs": settings.max_runs,
-    }
-
-    def at(v: float, offset: float) -> dict:
-        r = nonlinear_run_is_stable(vehicle, track, v, settings, offset)
-        points.append(r)
-        if progress:
-            progress(f"branch: {v:.2f} m/s from {offset * 1e3:.2f} mm -> {_run_text(r)}")
-        return r
-
-    def next_offset(r: dict) -> float:
-        amp = r.get("amplitude_m") or 0.0
-        return max(amp, 0.25 * settings.initial_lateral_m)
-
-    first = at(settings.speed_max_m_per_s, settings.initial_lateral_m)
-    if first["stable"]:
-        out["converged"] = True
-        out["note"] = (f"no limit cycle at the highest speed, {settings.speed_max_m_per_s:g} m/s, "
-                       "from this disturbance")  # fmt: skip
-        return out
-    hunting, offset = first, next_offset(first)
-    v = settings.speed_max_m_per_s
-    lost = None
-    while len(points) < settings.max_runs:
-        v_next = max(v - settings.branch_step_m_per_s, settings.speed_min_m_per_s)
-        if v_next >= v:
-            break
-        r = at(v_next, offset)
-        if r["stable"]:
-            lost = r
-            break
-        hunting, offset, v = r, next_offset(r), v_next
-    if lost is None:
-        if v <= settings.speed_min_m_per_s:
-            out["converged"] = True
-            out["unstable_in_range"] = True
-            out["note"] = f"a limit cycle down to the lowest speed, {v:g} m/s"
-        else:
-            out["note"] = (
-                f"not converged: {settings.max_runs} runs used, still hunting at {v:g} m/s"
-            )
-        return out
-    lo, hi = lost["speed_m_per_s"], hunting["speed_m_per_s"]
-    while hi - lo > settings.tolerance_m_per_s and len(points) < settings.max_runs:
-        r = at(0.5 * (lo + hi), offset)
-        if r["stable"]:
-            lo = r["speed_m_per_s"]
-        else:
-            hi, offset = r["speed_m_per_s"], next_offset(r)
-    out["bracket_m_per_s"] = [lo, hi]
-    out["critical_speed_m_per_s"] = hi
-    out["converged"] = hi - lo <= settings.tolerance_m_per_s
-    if not out["converged"]:
-        out["note"] = (f"not converged: {settings.max_runs} runs used, bracket {lo:g} to "
-                       f"{hi:g} m/s")  # fmt: skip
-    return out
-
-
-def ramp_critical_speed(
-    vehicle: Vehicle,
-    track: Track | None = None,
-    settings: CriticalSpeedSettings | None = None,
-    progress: Callable[[str], None] | None = None,
-) -> dict:
-    """Nonlinear critical speed by the ramp method: settle into hunting at the top speed, then
-    decelerate slowly; report the speed at which the limit cycle vanishes.
-
-    The amplitude is taken per half period of the leading wheelset's lateral motion (between
-    zero crossings); the critical speed is the speed at the end of the last half period whose
-    amplitude exceeds the threshold.
-    """
-    settings = settings or CriticalSpeedSettings()
-    track = track or ideal_straight_track()
-    v0, v1 = settings.speed_max_m_per_s, settings.speed_min_m_per_s
-    a = settings.ramp_deceleration_m_per_s2
-    # settle at v0, then decelerate: one run, the deceleration starting after ramp_settle_m is
-    # approximated by starting the ramp a little higher (same settle time at v0 + a t/2)
-    t_settle = settings.ramp_settle_m / v0
-    v_start = v0 + a * t_settle
-    distance = (v_start**2 - v1**2) / (2.0 * a)
-    if progress:
-        progress(f"ramp: {v_start:.1f} -> {v1:.1f} m/s over {distance:.0f} m")
-    result = run(
-        vehicle,
-        track,
-        RunSettings(
-            speed_m_per_s=v_start,
-            distance_m=distance,
-            initial_lateral_m=settings.initial_lateral_m,
-            time_step_s=settings.time_step_s,
-            output_interval_s=max(settings.time_step_s, 0.01),
-            deceleration_m_per_s2=a,
-        ),
-    )
-    ts = result.timeseries
-    speed = ts["speed_m_per_s"]
-    y = ts["ws1_lateral_m"]
-    amplitude, at_speed = _half_period_amplitudes(y, speed)
-    out = {
-        "critical_speed_m_per_s": None,
-        "start_speed_m_per_s": v_start,
-        "end_speed_m_per_s": v1,
-        "deceleration_m_per_s2": a,
-        "state": result.status["state"],
-        "threshold_m": settings.threshold_m,
-        "speeds_m_per_s": at_speed.tolist(),
-        "amplitude_m": amplitude.tolist(),
-    }
-    if result.status["state"] not in COMPLETED_STATES:
-        out["note"] = f"the ramp run stopped: {result.status['reason']}"
-        return out
-    above = amplitude > settings.threshold_m
-    if not np.any(above):
-        out["note"] = f"no hunting at the start speed {v_start:g} m/s"
-        return out
-    if above[-1]:
-        out["note"] = f"still hunting at the end of the ramp, {v1:g} m/s"
-        out["unstable_in_range"] = True
-        return out
-    last = int(np.nonzero(above)[0][-1])
-    out["critical_speed_m_per_s"] = float(at_speed[last])
-    return out
-
-
-def _half_period_amplitudes(y: np.ndarray, speed: np.ndarray):
-    """The amplitude (:func:`~railexu.assessment.signals.amplitude`, half peak to peak) of each
-    full period that ends at a sign change of ``y - mean``, and the speed at its end: one value
-    per half period, each over the last full period."""
-    centred = y - np.mean(y)
-    sign = np.signbit(centred)
-    cuts = np.nonzero(sign[1:] != sign[:-1])[0] + 1
-    edges = np.concatenate([[0], cuts, [len(y)]])
-    amps, speeds = [], []
-    for i0, i1 in zip(edges[:-2], edges[2:], strict=True):
-        if i1 - i0 < 3:
-            continue
-        amps.append(amplitude(y[i0:i1]))
-        speeds.append(float(speed[i1 - 1]))
-    return np.asarray(amps), np.asarray(speeds)

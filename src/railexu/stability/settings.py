@@ -13,6 +13,22 @@ METHODS = ("linear", "bisection", "ramp", "branch")
 LINEARIZATIONS = ("equivalent_conicity", "profiles")
 
 
+#: Finest bisection bracket [m/s]: 0.01 m/s of a 75 m/s range is 13 runs; a critical speed is
+#: not defined finer than that (it moves with the disturbance and the run length).
+MIN_TOLERANCE_M_PER_S = 0.01
+#: Largest hunting threshold and initial lateral offset [m]: the flanges stop a wheelset about
+#: 10 mm from the track centre (flangeway clearance), so a larger amplitude is never reached.
+MAX_LATERAL_M = 0.02
+#: Lowest speed searched [m/s].
+MIN_SPEED_M_PER_S = 1.0
+#: Shortest run of the nonlinear methods [m]: hunting wavelengths are 10-30 m.
+MIN_DISTANCE_M = 20.0
+#: Most speeds of the linear analysis.
+MAX_LINEAR_POINTS = 1000
+#: Steepest deceleration of the ramp method [m/s^2].
+MAX_DECELERATION_M_PER_S2 = 5.0
+
+
 class StabilityError(InputError):
     """Invalid critical-speed settings."""
 
@@ -33,6 +49,8 @@ class CriticalSpeedSettings:
         linearization: ``equivalent_conicity`` (default) or ``profiles``.
         ramp_deceleration_m_per_s2: deceleration of the ramp.
         ramp_settle_m: distance run at the top speed before the ramp starts.
+        ramp_budget_m: the most distance one ramp may run (settling included): a ramp that
+            would need more is cut there and says ``budget exhausted``.
         time_step_s: integration step of the nonlinear runs.
         branch_step_m_per_s: speed step of the limit-cycle branch (``branch`` method).
         max_runs: most runs of the branch method (its budget).
@@ -56,6 +74,7 @@ class CriticalSpeedSettings:
     linearization: str = "equivalent_conicity"
     ramp_deceleration_m_per_s2: float = 0.5
     ramp_settle_m: float = 200.0
+    ramp_budget_m: float = 20000.0
     time_step_s: float = 0.002
     branch_step_m_per_s: float = 5.0
     max_runs: int = 30
@@ -71,6 +90,12 @@ class CriticalSpeedSettings:
             raise StabilityError(
                 f"linearization {self.linearization!r}: expected one of {', '.join(LINEARIZATIONS)}"
             )
+        if not self.speed_min_m_per_s >= MIN_SPEED_M_PER_S:
+            raise StabilityError(
+                f"speed_min {self.speed_min_m_per_s:g} m/s: expected at least "
+                f"{MIN_SPEED_M_PER_S:g} m/s (critical speeds of rail vehicles are above 10 m/s; "
+                "below 1 m/s the creepages, normalised by the speed, lose their meaning)"
+            )
         if not 0.0 < self.speed_min_m_per_s < self.speed_max_m_per_s <= 150.0:
             raise StabilityError(
                 "need 0 < speed_min < speed_max <= 150 m/s (the limit of a run's speed), got "
@@ -78,12 +103,48 @@ class CriticalSpeedSettings:
             )
         if not self.tolerance_m_per_s > 0.0:
             raise StabilityError("tolerance must be > 0 m/s")
+        span = self.speed_max_m_per_s - self.speed_min_m_per_s
+        if not MIN_TOLERANCE_M_PER_S <= self.tolerance_m_per_s <= span:
+            raise StabilityError(
+                f"tolerance {self.tolerance_m_per_s:g} m/s: expected {MIN_TOLERANCE_M_PER_S:g} "
+                f"m/s .. the searched range ({span:g} m/s); a finer bracket only adds runs"
+            )
         if not self.threshold_m > 0.0:
             raise StabilityError("threshold must be > 0 m")
-        if self.linear_points < 2:
-            raise StabilityError("linear_points must be >= 2")
+        if not self.threshold_m >= self.floor_m:
+            raise StabilityError(
+                f"threshold {self.threshold_m:g} m: expected at least the floor "
+                f"{self.floor_m:g} m (an oscillation below it counts as none)"
+            )
+        if not self.distance_m >= MIN_DISTANCE_M:
+            raise StabilityError(
+                f"distance {self.distance_m:g} m: expected at least {MIN_DISTANCE_M:g} m (a "
+                "hunting wavelength is 10-30 m; a run must hold several to judge it)"
+            )
+        for name, value in (("threshold", self.threshold_m),
+                            ("initial_lateral", self.initial_lateral_m)):  # fmt: skip
+            if not abs(value) <= MAX_LATERAL_M:
+                raise StabilityError(
+                    f"{name} {value:g} m: expected at most {MAX_LATERAL_M:g} m (the flanges stop "
+                    "a wheelset about 10 mm from the track centre)"
+                )
+        if not 2 <= self.linear_points <= MAX_LINEAR_POINTS:
+            raise StabilityError(
+                f"linear_points must be 2 .. {MAX_LINEAR_POINTS} (0.075 m/s steps over 75 m/s), "
+                f"got {self.linear_points}"
+            )
+        if not 0.0 < self.ramp_deceleration_m_per_s2 <= MAX_DECELERATION_M_PER_S2:
+            raise StabilityError(
+                f"ramp_deceleration {self.ramp_deceleration_m_per_s2:g} m/s^2: expected > 0 and "
+                f"<= {MAX_DECELERATION_M_PER_S2:g} m/s^2 (trains brake at 1-1.5 m/s^2; a "
+                "faster ramp outruns the growth of the hunting it is to find)"
+            )
+        if not self.ramp_settle_m >= 0.0:
+            raise StabilityError(f"ramp_settle {self.ramp_settle_m:g} m: expected >= 0 m")
         if not self.branch_step_m_per_s > 0.0:
             raise StabilityError("branch_step must be > 0 m/s")
+        if not self.ramp_budget_m > self.ramp_settle_m:
+            raise StabilityError("ramp_budget must be longer than ramp_settle")
         if self.max_runs < 2:
             raise StabilityError("max_runs must be >= 2")
         if not 0.1 <= self.fit_fraction <= 0.9:
@@ -105,6 +166,7 @@ CRITICAL_SPEED_KEYS = (
     "linearization",
     "ramp_deceleration",
     "ramp_settle",
+    "ramp_budget",
     "time_step",
     "branch_step",
     "max_runs",
@@ -149,6 +211,7 @@ def critical_speed_settings_from_dict(
             "ramp_deceleration", "m/s^2", default=d.ramp_deceleration_m_per_s2, positive=True
         ),
         ramp_settle_m=sec.quantity("ramp_settle", "m", default=d.ramp_settle_m, minimum=0.0),
+        ramp_budget_m=sec.quantity("ramp_budget", "m", default=d.ramp_budget_m, positive=True),
         time_step_s=sec.quantity("time_step", "s", default=d.time_step_s, positive=True),
         branch_step_m_per_s=sec.quantity(
             "branch_step", "m/s", default=d.branch_step_m_per_s, positive=True

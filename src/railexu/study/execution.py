@@ -134,6 +134,11 @@ def _dask_client(scheduler: Any):
         return distributed.Client(scheduler, timeout="20s"), True
     except (OSError, TimeoutError) as exc:
         raise StudyError(f"cannot connect to the Dask scheduler at {scheduler}: {exc}") from exc
+    except ValueError as exc:  # not an address: 'abc', '' (distributed's parser)
+        raise StudyError(
+            f"--scheduler {scheduler!r}: not a Dask scheduler address ({exc}); expected "
+            "tcp://HOST:PORT"
+        ) from None
 
 
 def _run_dask(tasks: Sequence[_Task], client) -> Iterator[dict]:

@@ -201,6 +201,12 @@ def run_study(
         workers = os.cpu_count() or 1
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise StudyError(f"workers must be an integer >= 0, got {workers!r}")
+    if workers > max_workers():
+        raise StudyError(
+            f"workers {workers}: at most {max_workers()} ({WORKERS_PER_CORE} per core of this "
+            "machine; each worker holds the imports and a model, a few hundred MB, and more "
+            "than the cores only share them)"
+        )
     out = Path(out_dir)
     try:
         with _sigterm_raises():
@@ -208,6 +214,16 @@ def run_study(
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM: the finished cases are kept
         kind = type(exc) if isinstance(exc, RunInterrupted) else RunInterrupted
         raise kind(result=_finished_so_far(study, out, t0)) from exc
+
+
+#: Most local worker processes per core (:func:`max_workers`).
+WORKERS_PER_CORE = 4
+
+
+def max_workers() -> int:
+    """The most local worker processes a study may start: :data:`WORKERS_PER_CORE` per core
+    (at least 8)."""
+    return max(8, WORKERS_PER_CORE * (os.cpu_count() or 1))
 
 
 @contextlib.contextmanager

@@ -112,6 +112,7 @@ _KNOWN_UNITS = {
         "conicity_amplitude": "m",
         "ramp_deceleration": "m/s^2",
         "ramp_settle": "m",
+        "ramp_budget": "m",
         "time_step": "s",
         "branch_step": "m/s",
         "floor": "m",

@@ -11,6 +11,8 @@ import math
 from railexu.contact.standard_gauge import STANDARD_GAUGE_M
 from railexu.inputs import OPTIONAL, REQUIRED, Field, Schema
 from railexu.track.irregularities import COMPONENTS, available_spectra
+from railexu.track.variable_rails_schema import VARIABLE_RAILS
+from railexu.track.vertical_schema import VERTICAL
 
 FORMAT_VERSION = 1
 #: Longest track a run or a synthetic record may cover [m]; a longer one is a unit mistake.
@@ -150,6 +152,8 @@ TRACK = Schema(
               unit="m", default=STANDARD_GAUGE_M, minimum=1.0, maximum=2.0),
         Field("geometry", "track geometry by `type`", "model", default={"type": "straight"},
               models=GEOMETRY, selector="type"),
+        Field("vertical", "vertical alignment (gradients, vertical curves) by `type`", "model",
+              default={"type": "level"}, models=VERTICAL, selector="type"),
         Field("start", "distance along the geometry where a run starts: the rearmost wheelset "
               "stands 1 m beyond it, on a curve placed on its local canted rails", unit="m",
               default=0.0, minimum=0.0, maximum=MAX_LENGTH_M),
@@ -157,6 +161,8 @@ TRACK = Schema(
               default={"type": "rigid"}, models=TRACK_MODEL, selector="type"),
         Field("irregularities", "irregularities by `type`, their parameters nested", "model",
               default={"type": "none"}, models=IRREGULARITIES, selector="type"),
+        Field("variable_rails", "a switch or crossing: rails that vary along a zone, by `type`",
+              "model", default={"type": "none"}, models=VARIABLE_RAILS, selector="type"),
     ),
     "The top level of a track file.",
 )  # fmt: skip
@@ -165,9 +171,13 @@ DOC_TABLES = (
     ("Top level", TRACK),
     ("`geometry` with `type: sections`", GEOMETRY["sections"]),
     ("`geometry` with `type: measured`", GEOMETRY["measured"]),
+    ("`vertical` with `type: gradient`", VERTICAL["gradient"]),
+    ("`vertical` with `type: stations`", VERTICAL["stations"]),
+    ("`vertical` with `type: measured`", VERTICAL["measured"]),
     ("`track_model` with `type: elastic`", TRACK_MODEL["elastic"]),
     ("`irregularities` with `type: spectrum`", IRREGULARITIES["spectrum"]),
     ("`irregularities` with `type: measured`", IRREGULARITIES["measured"]),
+    ("`variable_rails` with `type: slices`", VARIABLE_RAILS["slices"]),
 )
 
 

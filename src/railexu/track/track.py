@@ -40,6 +40,9 @@ from railexu.track.irregularities import (
     synthesize_irregularities,
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
+from railexu.track.variable_rails import VariableRails
+from railexu.track.variable_rails_file import variable_rails_from_dict
+from railexu.track.vertical import VerticalAlignment, vertical_from_dict
 
 _SPECTRUM = IRREGULARITIES["spectrum"]
 
@@ -76,8 +79,12 @@ class Track:
     alignment: Alignment | None = field(default=None, compare=False)
     # elastic track (railexu.track.elastic); None: rigid
     elastic: ElasticTrack | None = None
+    # vertical alignment (railexu.track.vertical); None: level track
+    vertical: VerticalAlignment | None = field(default=None, compare=False)
     # distance along the geometry where a run starts (the rearmost wheelset 1 m beyond) [m]
     start_m: float = 0.0
+    # switches and crossings: rails that vary along a zone (railexu.track.variable_rails)
+    variable_rails: VariableRails | None = field(default=None, compare=False)
 
     @property
     def inclination_rad(self) -> float:
@@ -146,6 +153,12 @@ def track_from_dict(
     alignment = alignment_from_dict(top.data.get("geometry"), source, top.lines, base_dir)
     geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
     elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
+    vertical = vertical_from_dict(top.data.get("vertical"), source, top.lines, base_dir)
+    start_m = TRACK.read(top, "start")
+    end_m = alignment.end_m if alignment.end_m > 0.0 else None  # None: unbounded straight
+    rails = variable_rails_from_dict(
+        top.data.get("variable_rails"), source, top.lines, base_dir, end_m, start_m
+    )
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -165,7 +178,9 @@ def track_from_dict(
         source=source,
         alignment=alignment,
         elastic=elastic,
-        start_m=TRACK.read(top, "start"),
+        vertical=vertical,
+        start_m=start_m,
+        variable_rails=rails,
     )
 
 

@@ -129,6 +129,26 @@ WHEELSET = Schema(
     "A wheelset (axle along y), by name under `wheelsets:`; at least one.",
 )  # fmt: skip
 
+# Physical bounds of suspension values (their reasons: docs/vehicle-format.md, "Ranges").
+#: Largest stiffness of a spring or a table's slope [N/m]: a steel block 0.1 m^2 x 0.2 m is
+#: 1e11 N/m; 1e10 N/m is a rigid stop whose 1 t mass rings at 500 Hz, beyond what any step
+#: resolves.
+MAX_STIFFNESS = 1.0e10
+#: Largest damping of a damper or a damper table's slope [N s/m]: hydraulic dampers are 1e4
+#: to 1e6 N s/m; 1e9 N s/m on a 1 t body has a time constant of 1 us.
+MAX_DAMPING = 1.0e9
+#: Smallest stiffness in series with a damper or a friction slider [N/m]: rubber bushes and
+#: friction contacts before sliding are 1e6 to 1e8 N/m; at 10 kN/m a 100 kN s/m damper acts
+#: only below 0.016 Hz and a 3 kN slider would move 0.3 m before sliding.
+MIN_SERIES_STIFFNESS = 1.0e4
+#: Smallest regularising slip velocity of a friction element [m/s]: below 0.01 mm/s the
+#: slope F_c / v_s of the regularised law (4e8 N s/m for 4 kN) is a damping the step cannot
+#: follow.
+MIN_SLIP_VELOCITY = 1.0e-5
+#: Smallest effective pendulum length of UIC links [m]: the links are 0.1 to 0.3 m; at 10 mm
+#: the pendulum stiffness W / L of a 60 kN load is 6 MN/m, stiffer than the links' stick.
+MIN_PENDULUM_LENGTH = 0.01
+
 #: Interpolation of characteristic tables between their points.
 INTERPOLATIONS = ("linear", "smooth")
 _BODIES = Field("bodies", "the two bodies it connects, [upper, lower]", "text_list")
@@ -216,7 +236,8 @@ ELEMENTS = {
                   default="linear", choices=INTERPOLATIONS),
             Field("series_stiffness", "stiffness of the end bushes in series with the damper "
                   "(a Maxwell element with one internal coordinate); absent: rigid",
-                  unit="N/m", default=OPTIONAL, positive=True, maximum=1e10),
+                  unit="N/m", default=OPTIONAL, positive=True, minimum=MIN_SERIES_STIFFNESS,
+                  maximum=1e10),
             _ESTIMATE, _NOTES,
         ),
         "A hydraulic damper along one axis: linear or from a force-velocity table, optionally "
@@ -231,11 +252,12 @@ ELEMENTS = {
                   positive=True, maximum=1e7),
             Field("slip_velocity", "regularisation: F = F_c tanh(v / slip_velocity); with a "
                   "stick stiffness the slider flows at (|f| - F_c) / eta, eta = F_c / (1e4 "
-                  "slip_velocity)", unit="m/s", default=1.0e-3, positive=True, maximum=1.0),
+                  "slip_velocity)", unit="m/s", default=1.0e-3, positive=True,
+                  minimum=MIN_SLIP_VELOCITY, maximum=1.0),
             Field("stick_stiffness", "stiffness of the contact before sliding (stick-slip "
                   "model: spring in series with the slider, one internal coordinate); absent: "
                   "regularised Coulomb friction only", unit="N/m", default=OPTIONAL,
-                  positive=True, maximum=1e10),
+                  positive=True, minimum=MIN_SERIES_STIFFNESS, maximum=1e10),
             _ESTIMATE, _NOTES,
         ),
         "Dry (Coulomb) friction along one axis: friction wedges, leaf-spring friction, side "
@@ -247,20 +269,20 @@ ELEMENTS = {
             _BODIES, _POSITION, _MIRROR,
             Field("pendulum_length", "effective pendulum length of the links, longitudinal "
                   "and lateral", "vector", "m", components=("x", "y"), positive=True,
-                  maximum=2.0),
+                  minimum=MIN_PENDULUM_LENGTH, maximum=2.0),
             Field("friction_coefficient", "friction coefficient of the link joints "
                   "(friction force = coefficient x vertical load), longitudinal and lateral",
                   "vector", "1", components=("x", "y"), minimum=0.0, maximum=1.0),
             Field("stick_stiffness", "stiffness of the suspension before the links slide, "
                   "longitudinal and lateral", "vector", "N/m", components=("x", "y"),
-                  positive=True, maximum=1e10),
+                  positive=True, minimum=MIN_SERIES_STIFFNESS, maximum=1e10),
             Field("vertical_load", "vertical load W on the link suspension; absent: the "
                   "static load of the elements with vertical stiffness between the same "
                   "bodies at the same point", unit="N", default=OPTIONAL, positive=True,
                   maximum=1e7),
             Field("slip_velocity", "regularisation of the sliding: the links slide at "
                   "(|f| - mu W) / eta, eta = mu W / (1e4 slip_velocity)", unit="m/s",
-                  default=1.0e-3, positive=True, maximum=1.0),
+                  default=1.0e-3, positive=True, minimum=MIN_SLIP_VELOCITY, maximum=1.0),
             _ESTIMATE, _NOTES,
         ),
         "The UIC double-link (pendulum) suspension of two-axle freight wagons, longitudinal "

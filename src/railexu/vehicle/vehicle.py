@@ -26,6 +26,11 @@ from railexu.inputs.catalog import find_input
 from railexu.inputs.overrides import set_values
 from railexu.profiles import ProfileError, wheel_profile
 from railexu.vehicle.checks import check_topology
+from railexu.vehicle.format_history import (
+    check_format_1_category,
+    check_format_1_elements,
+    format_1_contact_defaults,
+)
 from railexu.vehicle.parts import (
     AirSpring,
     AntiRollBar,
@@ -52,6 +57,8 @@ from railexu.vehicle.schema import (
     ELEMENTS,
     FORMAT_VERSION,
     LOAD,
+    MAX_DAMPING,
+    MAX_STIFFNESS,
     MEASUREMENT_POINT,
     VEHICLE,
     WHEELSET,
@@ -207,8 +214,11 @@ def vehicle_from_dict(
     """Validate raw vehicle data (as read from YAML) into a :class:`Vehicle`."""
     lines = lines if lines is not None else LineMap()
     top = VEHICLE.wrap(data, source, lines)
-    if VEHICLE.read(top, "format_version") == 1:
+    version = VEHICLE.read(top, "format_version")
+    if version == 1:
+        check_format_1_category(top)
         data, lines = _upgrade_version_1(data, lines)
+        data = format_1_contact_defaults(data)
         top = VEHICLE.wrap(data, source, lines)
     bodies = [_body(top.child("bodies", n, BODY.keys()), n) for n, _ in top.items("bodies", False)]
     wheelsets = [
@@ -222,6 +232,8 @@ def vehicle_from_dict(
     if duplicates:
         top.fail(f"names used twice among bodies and wheelsets: {', '.join(sorted(duplicates))}")
     suspension = [el for n, _ in top.items("suspension", False) for el in _element(top, n, names)]
+    if version == 1:
+        check_format_1_elements(top, wheelsets)
     loads = [ld for n, _ in top.items("loads", False) for ld in _loads(top, n, names)]
     speed_body = VEHICLE.read(top, "speed_body") or names[0]
     if speed_body not in names:
@@ -345,6 +357,8 @@ def _linear_maker(sec: Section, schema, pair, estimate):
         return lambda n, p: SpringDamper(n, pair, p, stiffness, damping, estimate)
     if kind == "torsion_spring":
         axis, k, c = (schema.read(sec, key) for key in ("axis", "stiffness", "damping"))
+        if not (k or c):
+            sec.fail("give a stiffness or a damping (both 0: no element)", key="stiffness")
         return lambda n, p: TorsionSpring(n, pair, p, axis, k, c, estimate)
     values = [schema.read(sec, k) for k in ("direction", "clearance", "stiffness", "damping")]
     return lambda n, p: BumpStop(n, pair, p, *values, estimate)
@@ -434,6 +448,7 @@ def _table(sec: Section, schema, x_key: str, f_key: str, what: str):
             sec.fail(f"the {f_key} must not decrease with the {what} (a falling "
                      f"characteristic is a negative stiffness or damping), but entry {i} "
                      f"({f[i]:g}) is below entry {i - 1} ({f[i - 1]:g})", key=f_key)  # fmt: skip
+        _check_slope(sec, x, f, i, f_key, what)
     if f[-1] == f[0]:
         sec.fail(f"the {f_key} is constant: the element would carry no load", key=f_key)
     if schema.read(sec, "symmetric"):
@@ -443,6 +458,21 @@ def _table(sec: Section, schema, x_key: str, f_key: str, what: str):
         x = tuple(-v for v in reversed(x[1:])) + tuple(x)
         f = tuple(-v for v in reversed(f[1:])) + tuple(f)
     return tuple(x), tuple(f)
+
+
+#: The steepest slope of a table [SI], by its abscissa: the largest stiffness or damping of the
+#: linear elements (``vehicle/schema.py``; reasons in docs/vehicle-format.md, "Ranges").
+_MAX_SLOPE = {"deflection": (MAX_STIFFNESS, "N/m"), "velocity": (MAX_DAMPING, "N s/m")}
+
+
+def _check_slope(sec: Section, x, f, i: int, f_key: str, what: str) -> None:
+    """Refuse a segment steeper than a rigid stop (a force jump over a tiny step)."""
+    limit, unit = _MAX_SLOPE[what]
+    slope = (f[i] - f[i - 1]) / (x[i] - x[i - 1])
+    if slope > limit:
+        sec.fail(f"the slope between entries {i - 1} and {i} is {slope:.3g} {unit}, above "
+                 f"{limit:g} {unit} (a rigid stop: a force jump the integration cannot follow; "
+                 f"spread the rise over a longer {what})", key=f_key)  # fmt: skip
 
 
 def _interpolate_linear(x, f, at: float) -> float:

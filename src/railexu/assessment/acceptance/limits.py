@@ -226,6 +226,38 @@ def _check_positive(key: str, value: float, lo: float, hi: float, unit: str) -> 
                          key=key)  # fmt: skip
 
 
+def y_qst_limit_radius_m(zone: Any, radii: list[float]) -> float | None:
+    """The radius of the ``Y_qst`` limit of a curve zone (m): the mean of the sections' radii
+    ``radii`` (EN 14363's ``R_m``), or with the programme's ``y_qst_limit_radius: evaluation``
+    the radius of the zone's limit conditions ``evaluate_at``, where the two-dimensional
+    estimate is taken (the limit and the estimate then at one radius). None without radii."""
+    if not radii:
+        return None
+    if getattr(zone, "y_qst_limit_radius", "mean") == "evaluation":
+        regressors = tuple(getattr(zone, "regressors", ()))
+        at = tuple(getattr(zone, "evaluate_at", ()))
+        if "curvature" in regressors and len(at) == len(regressors):
+            curvature = at[regressors.index("curvature")]
+            if curvature > 0.0:
+                return 1.0 / curvature
+        return min(radii)  # a regression on cant deficiency alone: the zone's smallest radius
+    return sum(radii) / len(radii)
+
+
+def with_y_qst_radius_rule(limits: dict[str, Limit], zone: Any) -> dict[str, Limit]:
+    """Say in the ``Y_qst`` limit's rule which radius it was taken at (and mark the reading
+    railexu's assumption)."""
+    if "Y_qst" in limits and "programme file" not in limits["Y_qst"].clause:
+        how = getattr(zone, "y_qst_limit_radius", "mean")
+        where = ("the zone's mean radius" if how == "mean"
+                 else "the radius of the zone's limit conditions (evaluate_at)")  # fmt: skip
+        y = limits["Y_qst"]
+        limits["Y_qst"] = replace(y, rule=f"{y.rule} ({where}; programme statistics."
+                                  f"y_qst_limit_radius: {how}, railexu assumption)",
+                                  assumption=True)  # fmt: skip
+    return limits
+
+
 def zone_limits(
     category: str,
     zone: Zone,
@@ -244,10 +276,11 @@ def zone_limits(
         category,
         static_wheel_load_N(vehicle),
         speed_m_per_s=max(s.speed_m_per_s for s in sections),
-        mean_radius_m=sum(radii) / len(radii) if radii else None,
+        mean_radius_m=y_qst_limit_radius_m(zone, radii),
         bogie_mass_kg=bogie_mass_kg(vehicle),
         overrides=overrides,
     )
+    with_y_qst_radius_rule(out, zone)
     y_q = out["Y_over_Q_2m"]
     if radii and min(radii) < Y_OVER_Q_MIN_RADIUS_M and not y_q.assumption:
         out["Y_over_Q_2m"] = replace(y_q, assumption=True, rule=(

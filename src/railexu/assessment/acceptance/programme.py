@@ -138,6 +138,10 @@ STATISTICS = Schema(
               unit="1", minimum=0.5, maximum=0.999),
         Field("assumption", "the statistics' parameters are railexu's assumption", "boolean",
               default=True),
+        Field("y_qst_limit_radius", "radius of the Y_qst limit 30 + 10500/R kN: `mean` (the "
+              "zone's mean radius R_m) or `evaluation` (the radius of `evaluate_at`, where the "
+              "estimate is taken); railexu could not confirm the 2016 edition's reading",
+              "text", default="mean", choices=("mean", "evaluation")),
     ),
     "Parameters of the statistical evaluation.",
 )  # fmt: skip
@@ -242,6 +246,7 @@ class Zone:
     k_ride: float = 3.0
     prediction_quantile: float = 0.95
     statistics_assumption: bool = True
+    y_qst_limit_radius: str = "mean"
     seed: int = 1
     reduced: bool = False
     description: str = ""
@@ -368,6 +373,7 @@ def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
         k_safety=stats["k_safety"], k_ride=stats["k_ride"],
         prediction_quantile=stats["prediction_quantile"],
         statistics_assumption=stats["assumption"],
+        y_qst_limit_radius=stats["y_qst_limit_radius"],
     )  # fmt: skip
     _check_conditions(sec, zone)
     if quick:

@@ -72,6 +72,7 @@ def run_acceptance(
     programme_overrides: Iterable[str] = (),
     quasi_static: bool = True,
     progress: Callable[[str], None] | None = None,
+    run_settings: dict[str, str] | None = None,
 ) -> AcceptanceResult:
     """Take ``vehicle`` through an EN 14363 running-behaviour programme.
 
@@ -88,6 +89,8 @@ def run_acceptance(
         programme_overrides: ``dotted.key=value`` changes of the programme.
         quasi_static: also run the quasi-static tests (twist, bogie yaw resistance).
         progress: called with one line of text per step (default: print to standard error).
+        run_settings: keys of the run file's ``run:`` section for every section's run (e.g.
+            ``{"time_step": "1 ms"}``: the step-size study of ``docs/acceptance.md``).
 
     Raises:
         InputError: bad vehicle, programme or folder (naming the file, line and key).
@@ -121,7 +124,7 @@ def run_acceptance(
     zone_results, section_values, zone_errors, studies = {}, {}, {}, {}
     for zone in prog.zones:
         outcome = _run_zone(zone, prog, vehicle_file, vehicle_obj, overrides, out, workers,
-                            scheduler, say)  # fmt: skip
+                            scheduler, say, run_settings)  # fmt: skip
         studies[zone.name] = outcome["study"]
         if "error" in outcome:
             zone_errors[zone.name] = outcome["error"]
@@ -154,16 +157,25 @@ def default_programme(category: str) -> str:
     return name
 
 
-def _run_zone(zone, prog, vehicle_file, vehicle, overrides, out, workers, scheduler, say):
+def _run_zone(
+    zone, prog, vehicle_file, vehicle, overrides, out, workers, scheduler, say, run_settings=None
+):
     from railexu.study import load_study, print_study_progress, run_study
-    from railexu.study.acceptance.zone_study import write_zone_files, zone_study, zone_track
+    from railexu.study.acceptance.zone_study import (
+        start_lead_m,
+        write_zone_files,
+        zone_study,
+        zone_track,
+    )
 
     sections = zone.sections()
     folder = out / ZONES_DIR / zone.name
+    lead = start_lead_m(vehicle) if zone.kind == "curve" else 0.0
+    name = f"{prog.name}: {zone.name}"
     study_file = write_zone_files(
         folder,
-        zone_track(zone, sections),
-        zone_study(zone, sections, vehicle_file, overrides, f"{prog.name}: {zone.name}"),
+        zone_track(zone, sections, lead),
+        zone_study(zone, sections, vehicle_file, overrides, name, run_settings, lead),
     )
     say(f"zone {zone.name}: {len(sections)} sections ({zone.kind}, {zone.method})")
     study = load_study(study_file)
@@ -171,6 +183,9 @@ def _run_zone(zone, prog, vehicle_file, vehicle, overrides, out, workers, schedu
     done = run_study(study, folder, workers=workers, scheduler=scheduler,
                      progress=print_study_progress(stream))  # fmt: skip
     outcome: dict[str, Any] = {"study": _study_summary(done, folder)}
+    pct = _transition_comfort(done, folder)
+    if pct["sections"]:
+        outcome["study"]["curve_transition_comfort"] = pct
     try:
         svs = _section_values(done, folder, sections, vehicle)
         outcome["sections"] = svs
@@ -200,8 +215,43 @@ def _section_values(done, folder: Path, sections, vehicle) -> list:
     return out
 
 
+def _transition_comfort(done, folder: Path) -> dict:
+    """EN 12299 P_CT of the sections' transitions (each finished case's summary,
+    ``curve_transitions``): per section the largest over its points, and the zone's largest
+    (railexu's rule: P_CT is reported, EN 14363 sets no limit on it)."""
+    import json
+
+    from railexu.study.folder import CASES_DIR
+
+    sections: dict[str, dict] = {}
+    clause = assumption = None
+    for row in done.rows:
+        if row.get("status") not in ("completed", "completed_with_exceedances"):
+            continue
+        path = folder / CASES_DIR / str(row.get("case_id")) / "summary.json"
+        try:
+            ct = json.loads(path.read_text()).get("curve_transitions") or {}
+        except (OSError, ValueError):
+            continue
+        clause, assumption = ct.get("clause", clause), ct.get("assumption", assumption)
+        for tr in ct.get("transitions", []):
+            sections[str(row["case_id"])] = {
+                k: tr[k] for k in ("start_m", "end_m", "P_CT_standing_percent",
+                                   "P_CT_seated_percent")
+            }  # fmt: skip
+    out: dict[str, Any] = {"sections": sections, "clause": clause, "assumption": assumption}
+    for key in ("P_CT_standing_percent", "P_CT_seated_percent"):
+        values = [v[key] for v in sections.values()]
+        out[f"max_{key}"] = max(values) if values else None
+    return out
+
+
 def _evaluate(zone, prog, svs, vehicle):
-    from railexu.assessment.acceptance.limits import limits_for
+    from railexu.assessment.acceptance.limits import (
+        limits_for,
+        with_y_qst_radius_rule,
+        y_qst_limit_radius_m,
+    )
     from railexu.assessment.acceptance.quantities import bogie_mass_kg, static_wheel_load_N
     from railexu.assessment.acceptance.statistics import evaluate_zone
 
@@ -211,11 +261,11 @@ def _evaluate(zone, prog, svs, vehicle):
         prog.category if prog.category else vehicle.category,
         static_wheel_load_N(vehicle),
         speed_m_per_s=max(s.speed_m_per_s for s in sections),
-        mean_radius_m=(sum(radii) / len(radii)) if radii else None,
+        mean_radius_m=y_qst_limit_radius_m(zone, radii),
         bogie_mass_kg=bogie_mass_kg(vehicle),
         overrides=prog.limits,
     )
-    return evaluate_zone(zone, svs, limits)
+    return evaluate_zone(zone, svs, with_y_qst_radius_rule(limits, zone))
 
 
 def _quasi_static_tests(vehicle, say) -> dict:
@@ -241,7 +291,33 @@ def _quasi_static_tests(vehicle, say) -> dict:
         tests["yaw_resistance_test"] = _guarded(
             lambda: yaw_resistance.yaw_resistance_test(vehicle).to_dict()
         )
+        if vehicle.category not in YAW_TEST_CATEGORIES:
+            tests["yaw_resistance_test"] = _informative(tests["yaw_resistance_test"])
     return tests
+
+
+#: The vehicle categories whose bogie yaw resistance is judged by the X factor: the limit
+#: X <= 0.1 is UIC 530-2's, a leaflet for freight wagons (railexu's reading of EN 14363:2016
+#: 6.2: for other categories the running tests in small-radius curves (Y/Q, Y_qst) judge the
+#: yaw resistance; railexu's assumption until checked against the standard).
+YAW_TEST_CATEGORIES = ("wagon",)
+
+
+def _informative(entry: dict) -> dict:
+    """A yaw-resistance result of a vehicle outside :data:`YAW_TEST_CATEGORIES`: not
+    applicable, its X factor kept for information and not judged."""
+    if entry.get("status") != "completed":
+        return entry
+    return {
+        "status": "not_applicable",
+        "reason": (
+            "the X factor limit (0.1) is UIC 530-2's for freight wagons; for this category the "
+            "running tests in small-radius curves judge the yaw resistance (railexu's reading "
+            "of EN 14363:2016 6.2, an assumption)"
+        ),
+        "assumption": True,
+        "informative": {k: v for k, v in entry.items() if k != "status"},
+    }
 
 
 def _guarded(compute: Callable[[], dict]) -> dict:

@@ -122,8 +122,10 @@ def _zone_entry(zone, result, svs: list, error: str | None, study: dict | None) 
         "method": zone.method,
         "sections_run": len(svs),
         "sections": [sv.to_dict() for sv in svs],
-        "study": study or {},
+        "study": dict(study or {}),
     }
+    if "curve_transition_comfort" in entry["study"]:  # EN 12299 P_CT of the sections' runs
+        entry["curve_transition_comfort"] = entry["study"].pop("curve_transition_comfort")
     if error:
         entry["error"] = error
     if result is not None:

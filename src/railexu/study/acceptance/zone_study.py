@@ -45,17 +45,35 @@ def section_distance_m(section: SectionSpec) -> float:
     return section.evaluate_to_m + RUN_MARGIN_M
 
 
-def zone_track(zone: Zone, sections: list[SectionSpec]) -> dict[str, Any]:
+def start_lead_m(vehicle: Any) -> float:
+    """The straight before a curve section's transition: the vehicle's wheelbase plus the 1 m
+    by which a run starts its rearmost wheelset past the track's start, so that the whole
+    vehicle starts (in its static equilibrium) on straight track and its leading wheelset
+    enters the transition at distance 0; every measurement point passes the transition's start
+    (EN 12299 P_CT)."""
+    xs = [w.position_x_m for w in vehicle.wheelsets]
+    return max(xs) - min(xs) + 1.0
+
+
+def curve_key(lead_m: float = 0.0) -> str:
+    """The study key of the curve piece of :func:`zone_track` (after the lead, if any)."""
+    return f"track.geometry.sections.{2 if lead_m > 0.0 else 1}"
+
+
+def zone_track(zone: Zone, sections: list[SectionSpec], lead_m: float = 0.0) -> dict[str, Any]:
     """The base track of the zone's study (the first section's conditions; the cases vary
-    them)."""
+    them); with ``lead_m`` (:func:`start_lead_m`) a straight of that length before a curve
+    section's transition."""
     first = sections[0]
     length = max(section_distance_m(s) for s in sections) + TRACK_MARGIN_M
     transition = TRANSITION_SHARE * min(s.run_in_m for s in sections)
     if zone.kind == "curve":
+        lead = [{"type": "straight", "length": f"{lead_m:.3f} m"}] if lead_m > 0.0 else []
         geometry: dict[str, Any] = {
             "type": "sections",
             "cant_base": "1.5 m",
             "sections": [
+                *lead,
                 {"type": "transition", "length": f"{transition:.3f} m"},
                 {
                     "type": "curve",
@@ -84,11 +102,15 @@ def zone_study(
     vehicle_file: Path,
     vehicle_overrides: tuple[str, ...] = (),
     name: str = "",
+    run_settings: dict[str, str] | None = None,
+    lead_m: float = 0.0,
 ) -> dict[str, Any]:
-    """The study mapping of a zone: one case per section, conditions varied together."""
+    """The study mapping of a zone: one case per section, conditions varied together;
+    ``run_settings`` adds keys of the run file's ``run:`` section to every case (e.g.
+    ``{"time_step": "1 ms"}`` for a step-size study); ``lead_m`` as :func:`zone_track`'s."""
     parameters: dict[str, list] = {}
     if zone.kind == "curve":
-        key = "track.geometry.sections.1"
+        key = curve_key(lead_m)
         parameters[f"{key}.radius"] = [f"{s.radius_m:.6g} m" for s in sections]
         parameters[f"{key}.direction"] = [s.direction for s in sections]
     irr = "track.irregularities"
@@ -101,7 +123,8 @@ def zone_study(
     base: dict[str, Any] = {
         "vehicle": str(vehicle_file),
         "track": "track.yaml",
-        "run": {"distance": f"{distance:.3f} m", "initial_lateral": "0 mm"},
+        "run": {"distance": f"{distance:.3f} m", "initial_lateral": "0 mm"}
+        | dict(run_settings or {}),
     }
     if vehicle_overrides:
         base["set"] = [f"vehicle.{item}" for item in vehicle_overrides]

@@ -1,0 +1,279 @@
+"""Quasi-static contact of a wheel on a variable rail profile: switches and crossings.
+
+The rail of one side is a :class:`~railexu.profiles.variable.VariableProfile` (one curve per
+slice through the flangeway, or several rails: wing rail, nose, check rail, whose topmost
+surface counts at each lateral position). The wheel is a body of revolution. Because the rail
+changes along the track (a nose rising 1:10), contact is not under the axle: the search is
+three-dimensional, on a grid in ``x`` (along the track, from the wheel's axle) and ``y``.
+
+Method:
+
+1. *Interpenetration.* On a coarse grid over the wheel's width and ``|x| <= x_max`` the
+   overlap ``h(x, y) = z_wheel(x, y) - z_rail(s + x, y)`` (z downwards, positive = overlap),
+   with ``z_wheel = z_ws + z_w(y_w) - (r - sqrt(r^2 - x^2))``, ``r = r_0 + z_w(y_w)``.
+2. *Patches.* Every connected region with ``h > -near_m`` on the coarse grid is a candidate
+   patch, refined on a fine grid (``dx``, ``dy``, CONTACT's DX and DS) over its bounding box;
+   it is a patch if it overlaps there. The margin ``near_m`` (30 um, more than the coarse
+   grid's error of ``dx^2 / (8 r)`` = 0.3 um along the wheel and the rail's change over a
+   coarse cell) makes sure that an overlap the coarse grid cannot see is still found on the
+   fine one: the force is continuous in the wheel's position. A region cannot be missed in
+   the flangeway (the grid covers every lateral position) and a patch cannot jump between
+   rails (each patch is the overlap region itself, wherever it lies).
+3. *Normal problem per patch.* The contact plane is tilted by the rail's slope angle at the
+   patch's deepest point: the normal overlap is ``h cos(delta)`` and the lateral element size
+   ``dy / cos(delta)``; the pressure follows from the elastic half-space
+   (:func:`railexu.contact.halfspace.solve_normal`), frictionless. The normal force acts along
+   the plane's normal: vertical component ``N cos(delta)``, lateral ``N sin(delta)``.
+
+Only the normal problem is solved (no creep forces) and the wheelset is not rolled or yawed.
+Coordinates: those of CONTACT's right wheel on its right rail (``y`` towards the field side, the
+rail profile's own ``y``; ``z`` down), in metres; ``s`` along the track.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from scipy.interpolate import PchipInterpolator
+from scipy.optimize import brentq
+
+from railexu.contact.halfspace import solve_normal
+from railexu.errors import ComputationError
+from railexu.profiles.variable import VariableProfile
+
+
+@dataclass(frozen=True)
+class WheelSection:
+    """A wheel profile ``z_w(y_w)`` (z down, positive = larger radius) [m] on its axle.
+
+    Attributes:
+        points_m: profile points ``(y_w, z_w)`` [m], ``y_w`` increasing.
+        nominal_radius_m: radius where ``z_w = 0`` [m].
+        y_offset_m: rail-profile ``y`` of the wheel profile's origin at zero lateral
+            displacement [m] (CONTACT: ``FBDIST/2 - FBPOS - RAILY0``).
+    """
+
+    points_m: np.ndarray
+    nominal_radius_m: float
+    y_offset_m: float = 0.0
+
+    def height(self, y_w: np.ndarray) -> np.ndarray:
+        """``z_w`` [m] at ``y_w``; NaN outside the profile."""
+        p = self.points_m
+        f = PchipInterpolator(p[:, 0], p[:, 1], extrapolate=False)
+        return f(y_w)
+
+
+@dataclass(frozen=True)
+class Patch:
+    """One contact patch (SI units, rail-profile coordinates, z down).
+
+    Attributes:
+        x_m, y_m, z_m: pressure centre on the rail surface [m].
+        angle_rad: contact angle ``delta`` (rail slope, positive = surface rising to larger y
+            ... as CONTACT's DELTCP, negative on the gauge face of a right rail).
+        normal_force_n: normal force N [N].
+        vertical_force_n, lateral_force_n: its components on the rail [N] (z down positive).
+        max_overlap_m: largest undeformed overlap along the normal [m].
+        area_m2: contact area [m^2].
+        rail_index: which rail of the side carries it (index into the curves at ``s``, in
+            lateral order; on one curve through the flangeway, the side of the flangeway's
+            lowest point: 0 gauge side, 1 beyond).
+    """
+
+    x_m: float
+    y_m: float
+    z_m: float
+    angle_rad: float
+    normal_force_n: float
+    vertical_force_n: float
+    lateral_force_n: float
+    max_overlap_m: float
+    area_m2: float
+    rail_index: int
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """Grid and material of the quasi-static S&C contact (CONTACT's DX, DS, G, POISS)."""
+
+    dx_m: float = 2.0e-4
+    dy_m: float = 2.0e-4
+    coarse_dx_m: float = 1.0e-3
+    coarse_dy_m: float = 2.5e-4
+    x_max_m: float = 0.08
+    shear_modulus_pa: float = 82.0e9
+    poisson: float = 0.28
+    margin_m: float = 1.0e-3
+    near_m: float = 3.0e-5
+
+    @property
+    def e_star_pa(self) -> float:
+        """``E* = G / (1 - nu)`` for two bodies of one material [Pa]."""
+        return self.shear_modulus_pa / (1.0 - self.poisson)
+
+
+def _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, x, y):
+    """Overlap ``h(x, y)`` [m] (positive = wheel below the rail surface), ``-inf`` off rail."""
+    zw = wheel.height(y - y_ws_m - wheel.y_offset_m)
+    r = wheel.nominal_radius_m + zw
+    drop = r[None, :] - np.sqrt(np.maximum(r[None, :] ** 2 - x[:, None] ** 2, 0.0))
+    z_wheel = z_ws_m + zw[None, :] - drop
+    z_rail = rail.heights_on_grid(s_m + x, y)
+    h = z_wheel - z_rail
+    return np.where(np.isfinite(h), h, -np.inf)
+
+
+def _rail_index(rail, s_m, y_m) -> int:
+    """Which rail of the side at lateral ``y``: separate curves in order, or the two sides of a
+    single curve's lowest point between its two highest humps (the flangeway)."""
+    curves = rail.curves_at(s_m)
+    if len(curves) > 1:
+        for k, c in enumerate(curves):
+            if c[0, 0] <= y_m <= c[-1, 0]:
+                return k
+        return 0
+    c = curves[0]
+    z = c[:, 1]
+    low = int(np.argmax(z))  # deepest point of the curve (z down): the flangeway's bottom
+    return 0 if y_m <= c[low, 0] else 1
+
+
+def patches_at(
+    rail: VariableProfile,
+    wheel: WheelSection,
+    s_m: float,
+    y_ws_m: float,
+    z_ws_m: float,
+    settings: ContactSettings = ContactSettings(),
+) -> list[Patch]:
+    """The contact patches of a wheel at track position ``s``, lateral ``y_ws``, height ``z_ws``.
+
+    Args:
+        rail: the rail (or rails) of the side.
+        wheel: the wheel profile and its placement.
+        s_m: the wheel's track position [m]; y_ws_m: lateral displacement [m]; z_ws_m: vertical
+            position [m] (down positive, CONTACT's Z_WS).
+    """
+    st = settings
+    yw = wheel.points_m[:, 0] + y_ws_m + wheel.y_offset_m
+    yc = np.arange(yw[0] + st.coarse_dy_m, yw[-1], st.coarse_dy_m)
+    xc = np.arange(-st.x_max_m, st.x_max_m + 0.5 * st.coarse_dx_m, st.coarse_dx_m)
+    hc = _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, xc, yc)
+    labels, n = ndimage.label(hc > -st.near_m)
+    out = []
+    for lab in range(1, n + 1):
+        ii, jj = np.nonzero(labels == lab)
+        x0 = xc[ii.min()] - st.coarse_dx_m - st.margin_m
+        x1 = xc[ii.max()] + st.coarse_dx_m + st.margin_m
+        y0 = yc[jj.min()] - st.coarse_dy_m - st.margin_m
+        y1 = yc[jj.max()] + st.coarse_dy_m + st.margin_m
+        patch = _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, (x0, x1, y0, y1), st)
+        if patch is not None:
+            out.append(patch)
+    return _merge_duplicates(sorted(out, key=lambda p: p.y_m))
+
+
+def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st) -> Patch | None:
+    """The normal problem on the fine grid over one coarse patch's box."""
+    x0, x1, y0, y1 = box
+    x = np.arange(x0, x1 + 0.5 * st.dx_m, st.dx_m)
+    y = np.arange(y0, y1 + 0.5 * st.dy_m, st.dy_m)
+    h = _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, x, y)
+    if not np.any(h > 0.0):
+        return None
+    i, j = np.unravel_index(int(np.argmax(h)), h.shape)
+    zr = rail.heights_on_grid(np.array([s_m + x[i]]), y)[0]
+    jm, jp = max(j - 1, 0), min(j + 1, y.size - 1)
+    slope = (zr[jp] - zr[jm]) / (y[jp] - y[jm]) if jp > jm else 0.0
+    if not math.isfinite(slope):
+        slope = 0.0
+    delta = math.atan(slope)
+    cos_d = math.cos(delta)
+    hn = np.where(h > 0.0, h, np.minimum(h, 0.0)) * cos_d
+    hn = np.where(np.isfinite(hn), hn, -1.0)
+    p = solve_normal(hn, st.dx_m, st.dy_m / cos_d, st.e_star_pa)
+    area = st.dx_m * st.dy_m / cos_d
+    force = float(p.sum() * area)
+    if force <= 0.0:
+        return None
+    w = p / p.sum()
+    xm = float(np.sum(w.sum(axis=1) * x))
+    ym = float(np.sum(w.sum(axis=0) * y))
+    zm = float(np.interp(ym, y, np.where(np.isfinite(zr), zr, 0.0)))
+    return Patch(
+        x_m=xm,
+        y_m=ym,
+        z_m=zm,
+        angle_rad=delta,
+        normal_force_n=force,
+        vertical_force_n=force * cos_d,
+        lateral_force_n=-force * math.sin(delta),
+        max_overlap_m=float(h.max() * cos_d),
+        area_m2=float(np.count_nonzero(p > 0.0) * area),
+        rail_index=_rail_index(rail, s_m, ym),
+    )
+
+
+def _merge_duplicates(patches: list[Patch]) -> list[Patch]:
+    """Two coarse regions whose fine boxes found the same patch: keep one."""
+    out: list[Patch] = []
+    for p in patches:
+        if out and abs(p.y_m - out[-1].y_m) < 1e-6 and abs(p.x_m - out[-1].x_m) < 1e-6:
+            continue
+        out.append(p)
+    return out
+
+
+def press_wheel(
+    rail: VariableProfile,
+    wheel: WheelSection,
+    s_m: float,
+    y_ws_m: float,
+    load_n: float,
+    settings: ContactSettings = ContactSettings(),
+    *,
+    tol_n: float = 1.0,
+) -> tuple[float, list[Patch]]:
+    """The vertical position ``z_ws`` [m] at which the patches carry ``load_n`` vertically.
+
+    Raises:
+        ComputationError: no position carries the load (the wheel is off its rails).
+    """
+
+    def excess(z: float) -> float:
+        return (
+            sum(p.vertical_force_n for p in patches_at(rail, wheel, s_m, y_ws_m, z, settings))
+            - load_n
+        )
+
+    z_touch = _touch_height(rail, wheel, s_m, y_ws_m, settings)
+    lo, hi = z_touch - 1.0e-4, z_touch + 2.0e-4  # lo: 0.1 mm above the coarse grid's touch
+    while excess(hi) < 0.0:
+        hi += 2.0e-4
+        if hi - z_touch > 3.0e-3:
+            raise ComputationError(
+                f"no vertical position carries {load_n:.0f} N at s = {s_m:.4f} m, "
+                f"y = {y_ws_m * 1e3:.2f} mm"
+            )
+    z = brentq(excess, lo, hi, xtol=1.0e-9, rtol=1.0e-12, maxiter=60)
+    patches = patches_at(rail, wheel, s_m, y_ws_m, z, settings)
+    total = sum(p.vertical_force_n for p in patches)
+    if abs(total - load_n) > max(tol_n, 1e-3 * load_n):
+        raise ComputationError(f"pressing the wheel: {total:.1f} N against {load_n:.1f} N")
+    return z, patches
+
+
+def _touch_height(rail, wheel, s_m, y_ws_m, settings) -> float:
+    """``z_ws`` [m] at which the wheel first touches (largest overlap zero), coarse grid."""
+    st = settings
+    yw = wheel.points_m[:, 0] + y_ws_m + wheel.y_offset_m
+    yc = np.arange(yw[0] + st.coarse_dy_m, yw[-1], st.coarse_dy_m)
+    xc = np.arange(-st.x_max_m, st.x_max_m + 0.5 * st.coarse_dx_m, st.coarse_dx_m)
+    h = _overlap(rail, wheel, s_m, y_ws_m, 0.0, xc, yc)
+    if not np.any(np.isfinite(h)):
+        raise ComputationError(f"the wheel at s = {s_m:.4f} m is beside its rails")
+    return -float(np.max(h))

@@ -1,0 +1,163 @@
+"""The compiled kernel's rail table of a variable rail profile at one track position.
+
+The kernel (:mod:`railexu.contact.kernel`) reads a rail as one graph ``z(y)`` in track axes on a
+uniform grid, with slope, curvature, smoothed curvature and curvature-bound columns. Several
+rails of one side (wing rail and nose, a check rail) become one such graph: the topmost surface
+of their curves at ``y`` (between separate curves a straight bridge from one curve's end to the
+next one's start, below both rails' running surfaces, so that it carries no contact). The kernel
+then finds a local minimum of the gap on each rail: up to ``MAX_POINTS`` contact points per wheel,
+one patch per rail, as on plain track with tread and flange.
+
+Placement: the section's curves (``y`` field side positive, ``z`` down, the rail's own axes as in
+its files) are turned by the placed rail's cant and shifted by ``rail_origin_m`` (default the
+placed rail's origin: a uniform variable profile equal to the track's rail gives the plain
+table), exactly as :func:`railexu.contact.placement.place_wheel_rail` places a rail.
+Each curve is a cubic interpolating spline in ``y`` (C2) through the surface's points (0.2 mm
+apart), so slope and curvature are continuous on each rail.
+
+*Effective section* (``x_max_m > 0``). The kernel sees the rail at the wheelset's position
+only, but a wheel touches a rail that rises along the track ahead of its axle (CONTACT's
+``two_patches``: the nose patch 4.2 mm ahead, where the wheel's circle has risen 19 um and the
+nose more). The effective section is the envelope that the wheel's circles feel::
+
+    z_eff(y) = max over |x| <= x_max of ( z(s + x, y) - (r(y) - sqrt(r(y)^2 - x^2)) ),
+
+``r(y) = r0 + F(y - tape)`` the radius of the wheel's circle above ``y`` with the wheelset
+centred, with the slope and curvature of the maximising ``x`` (the envelope theorem: the
+envelope's slope is the surface's at the touching point). The exact circle matters: at
+x = 46 mm (CONTACT's ``cross_brute``) ``x^2 / 2r`` is 5.7 um short, a sixth of the approach.
+On a rail that does not change along the track the maximum is at ``x = 0`` and the table is the
+section's. Errors: ``x_step^2 / (8 r)`` from the sampling of ``x`` (0.07 um at 0.5 mm), and
+``x^2 / (2 r^2) F' dy`` from a lateral displacement ``dy`` of the wheelset (on the tread,
+``F' = 1/40``: 0.3 um at x = 46 mm and dy = 5 mm; in the flange root more).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from railexu.contact import kernel as K
+from railexu.contact.evaluation import _smoothed
+from railexu.contact.placement import WheelRailPair, _rotate
+from railexu.errors import ComputationError
+from railexu.profiles.variable import VariableProfile
+
+
+def section_rail_arrays(
+    rail: VariableProfile,
+    s_m: float,
+    pair: WheelRailPair,
+    *,
+    rail_origin_m: tuple[float, float] | None = None,
+    curvature_smoothing_m: float = 5.0e-4,
+    x_max_m: float = 0.0,
+    x_step_m: float = 5.0e-4,
+    grid: tuple[float, int] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel table ``[z, z', z'', z''_smooth, bounds...]`` and info ``(y0, step, n)`` of the
+    variable rail at ``s`` [m], placed like ``pair``'s rail (track axes, z up).
+
+    ``grid = (y0, n)`` fixes the table's rows (stations blended in the dynamics share one grid);
+    default: the curves' extent. Beyond a curve's end the table continues flat.
+
+    Raises:
+        ComputationError: a curve that is no longer a graph after the cant's rotation.
+    """
+    origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
+    step = pair.rail_table.step_m
+    wheel = pair.wheel
+    xs = np.arange(-x_max_m, x_max_m + 0.5 * x_step_m, x_step_m) if x_max_m > 0 else np.zeros(1)
+    sections = [_placed_curves(rail, s_m + x, pair.rail_cant_rad, origin) for x in xs]
+    if grid is None:
+        y0 = min(c[0][0] for cs in sections for c in cs)
+        y1 = max(c[0][-1] for cs in sections for c in cs)
+        n = int(np.floor((y1 - y0) / step)) + 1
+    else:
+        y0, n = float(grid[0]), int(grid[1])
+    grid = y0 + step * np.arange(n)
+    z = np.full(n, -np.inf)
+    dz = np.zeros(n)
+    d2z = np.zeros(n)
+    s_w = np.clip(grid - pair.tape_circle_lateral_m, wheel.y_min, wheel.y_max)
+    radius = pair.nominal_radius_m + wheel.height(s_w)
+    for x, curves in zip(xs, sections, strict=True):
+        zx, dzx, d2zx = _top_surface(curves, grid)
+        zx = zx - (radius - np.sqrt(radius * radius - x * x))
+        higher = zx > z
+        z[higher], dz[higher], d2z[higher] = zx[higher], dzx[higher], d2zx[higher]
+    gap = ~np.isfinite(z)
+    if np.all(gap):
+        raise ComputationError(f"{rail.slices.source}: no rail at s = {s_m:.4f} m on the grid")
+    if np.any(gap):  # straight bridges between separate curves, flat beyond the ends
+        z[gap] = np.interp(grid[gap], grid[~gap], z[~gap])
+        dz[gap] = np.gradient(z, step)[gap]
+        d2z[gap] = 0.0
+    smooth = _smoothed(d2z, step, curvature_smoothing_m)
+    tab = K.with_block_bounds(np.column_stack([z, dz, d2z, smooth]), step)
+    return tab, np.array([y0, step, float(n)])
+
+
+def _placed_curves(rail, s_m, cant, origin) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The curves at ``s`` turned by the cant and shifted to track axes (z up)."""
+    y_off, z_off = origin
+    curves = []
+    for c in rail.curves_at(s_m):
+        y, z = _rotate(c[:, 0], -c[:, 1], cant)
+        if np.any(np.diff(y) <= 0.0):
+            raise ComputationError(
+                f"{rail.slices.source}: at s = {s_m:.4f} m a curve is not a graph z(y) once "
+                f"turned by the rail's cant ({cant:.4f} rad)"
+            )
+        curves.append((y + y_off, z + z_off))
+    return curves
+
+
+def _top_surface(curves, grid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Height, slope, curvature of the topmost curve on the grid (``-inf`` where none)."""
+    n = grid.size
+    z = np.full(n, -np.inf)
+    dz = np.zeros(n)
+    d2z = np.zeros(n)
+    for y, zc in curves:
+        spline = CubicSpline(y, zc)
+        inside = np.flatnonzero((grid >= y[0]) & (grid <= y[-1]))
+        val = spline(grid[inside])
+        top = val > z[inside]
+        rows = inside[top]
+        z[rows] = val[top]
+        dz[rows] = spline(grid[rows], 1)
+        d2z[rows] = spline(grid[rows], 2)
+    return z, dz, d2z
+
+
+def station_tables(
+    rail: VariableProfile,
+    pair: WheelRailPair,
+    stations_m: np.ndarray,
+    *,
+    rail_origin_m: tuple[float, float] | None = None,
+    x_max_m: float = 0.06,
+    curvature_smoothing_m: float = 5.0e-4,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel tables ``(n_stations, n, columns)`` of the variable rail at the stations ``s``
+    [m] (the profile's own ``s``) on one common grid, and its info ``(y0, step, n)``.
+
+    Blending two neighbouring tables linearly gives the table of the blended surface; its
+    curvature-bound columns stay valid bounds (a bound of a convex combination is at most the
+    combination of the bounds), so the kernel's search stays exact on the blend.
+    """
+    origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
+    step = pair.rail_table.step_m
+    lo, hi = np.inf, -np.inf
+    for s in stations_m:
+        for x in (-x_max_m, 0.0, x_max_m):
+            for y, _ in _placed_curves(rail, s + x, pair.rail_cant_rad, origin):
+                lo, hi = min(lo, y[0]), max(hi, y[-1])
+    n = int(np.floor((hi - lo) / step)) + 1
+    tabs = [
+        section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
+                            curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n))[0]
+        for s in stations_m
+    ]  # fmt: skip
+    return np.ascontiguousarray(np.stack(tabs)), np.array([lo, step, float(n)])

@@ -1,0 +1,196 @@
+"""The ramp method of the nonlinear critical speed, judged by growth rate and shown at two rates
+(:func:`ramp_critical_speed`).
+
+One run settles into hunting at the top speed (``ramp_settle_m`` after the disturbance
+``initial_lateral_m``) and then decelerates at a constant rate; the run is cut into windows of
+:data:`WINDOW_PERIODS` hunting periods (the frequency measured on the plateau), half a window
+apart, and each window is classified by the growth rate of the wheelsets' fitted envelope
+(:func:`~railexu.stability.nonlinear.classify_window`: the same rules as every run of the
+bisection and branch methods, no fixed amplitude threshold). The critical speed of one ramp is
+the speed at the end of the last window that is not stable (a limit cycle of at least
+``limit_cycle_floor_m`` or a growing oscillation) with only stable windows after it: where the
+limit cycle vanishes for good. Its resolution is the speed lost over one window
+(deceleration x window length).
+
+A ramp that is too fast lags behind the branch (the cycle decays slowly near its fold): the
+method runs the ramp at ``ramp_deceleration`` and at :data:`SLOWER` times it, reports the slower
+ramp's speed, both speeds and whether they agree within the sum of their resolutions
+(``rate_independent``). Every ramp has a distance budget (``ramp_budget``): a ramp that would
+run further is cut at its budget and says so (``budget exhausted``), it never runs on."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from railexu.operation.speed_profile import SpeedProfile
+from railexu.results.run import RunSettings, run
+from railexu.simulation.simulate import COMPLETED_STATES
+from railexu.stability.nonlinear import _judgement, classify_window
+from railexu.stability.settings import CriticalSpeedSettings
+from railexu.track.track import Track, ideal_straight_track
+from railexu.vehicle.vehicle import Vehicle
+
+#: Length of a classification window in hunting periods (railexu's choice, from the fit's own
+#: error on steady sines sampled at 100 Hz: +-1.6 % per period over 8 periods, depending on the
+#: phase, 0.3 % over 16; the classification's tolerance is 1 % per period).
+WINDOW_PERIODS = 16.0
+#: The second ramp's deceleration as a fraction of the first's.
+SLOWER = 0.5
+#: Window length when the plateau shows no oscillation to measure a frequency on [s].
+DEFAULT_WINDOW_S = 2.0
+
+
+def ramp_profile(v_max: float, v_min: float, a: float, settle_m: float, budget_m: float):
+    """``(profile, distance_m, end_speed_m_per_s, cut)``: ``settle_m`` at ``v_max``, then a
+    deceleration ``a`` to ``v_min``, cut at ``budget_m`` in all (``cut`` True)."""
+    full = settle_m + (v_max**2 - v_min**2) / (2.0 * a)
+    distance = min(full, budget_m)
+    cut = full > budget_m + 1e-9
+    v_end = float(np.sqrt(max(v_max**2 - 2.0 * a * (distance - settle_m), 0.0))) if cut else v_min
+    if distance <= settle_m:
+        return SpeedProfile(((0.0, v_max),)), distance, v_max, True
+    points = ((0.0, v_max), (settle_m, v_max), (distance, v_end)) if settle_m > 0 else (
+        (0.0, v_max), (distance, v_end))  # fmt: skip
+    return SpeedProfile(points), distance, v_end, cut
+
+
+def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings) -> dict:
+    """Classify a ramp run's windows (module docstring); returns the plateau's classification,
+    the window length, per window its end speed, fitted amplitude, growth per period and
+    classification, and the critical speed with its resolution (None where the cycle did not
+    vanish within the run, or there was none at the start)."""
+    t, x = ts.time_s, ts.distance_m
+    names = [f"ws{i}" for i in ts.wheelset_indices()]
+    lateral = {n: ts[f"{n}_lateral_m"] for n in names}
+    speed = ts["speed_m_per_s"]
+    on_plateau = x <= settle_m + 1e-9
+    t_settle = t[on_plateau][-1] if np.any(on_plateau) else t[0]
+    start = t[0] + (1.0 - settings.fit_fraction) * (t_settle - t[0])
+    sel = (t >= start) & (t <= t_settle)
+    plateau = classify_window(t[sel], {n: y[sel] for n, y in lateral.items()}, settings)
+    if plateau.get("frequency_Hz") is None:  # too short for the fit: the whole plateau
+        sel = t <= t_settle
+        plateau = classify_window(t[sel], {n: y[sel] for n, y in lateral.items()}, settings)
+    f = plateau.get("frequency_Hz")
+    window = WINDOW_PERIODS / f if f else DEFAULT_WINDOW_S
+    out = {"plateau": plateau, "window_s": window, "resolution_m_per_s": a * window,
+           "windows": [], "critical_speed_m_per_s": None}  # fmt: skip
+    t0 = t_settle
+    while t0 + window <= t[-1] + 1e-9:
+        sel = (t >= t0) & (t <= t0 + window)
+        c = classify_window(t[sel], {n: y[sel] for n, y in lateral.items()}, settings)
+        end = int(np.nonzero(sel)[0][-1])
+        out["windows"].append({"speed_m_per_s": float(speed[end]), **c})
+        t0 += 0.5 * window
+    unstable = [k for k, w in enumerate(out["windows"]) if not w["stable"]]
+    if plateau["stable"] and not unstable:
+        out["note"] = "no hunting at the start speed"
+    elif unstable and unstable[-1] == len(out["windows"]) - 1:
+        out["note"] = "still hunting at the end of the ramp"
+    elif unstable:
+        out["critical_speed_m_per_s"] = out["windows"][unstable[-1]]["speed_m_per_s"]
+    else:
+        out["note"] = "the cycle vanished before the ramp's first window"
+        out["critical_speed_m_per_s"] = float(speed[np.searchsorted(t, t_settle)])
+    return out
+
+
+def one_ramp(vehicle, track, a: float, settings: CriticalSpeedSettings) -> dict:
+    """One ramp at deceleration ``a`` (m/s^2) within the budget, classified by windows."""
+    v_max, v_min = settings.speed_max_m_per_s, settings.speed_min_m_per_s
+    profile, distance, v_end, cut = ramp_profile(
+        v_max, v_min, a, settings.ramp_settle_m, settings.ramp_budget_m
+    )
+    result = run(
+        vehicle,
+        track,
+        RunSettings(
+            speed_profile=profile,
+            distance_m=distance,
+            initial_lateral_m=settings.initial_lateral_m,
+            time_step_s=settings.time_step_s,
+            output_interval_s=max(settings.time_step_s, 0.01),
+        ),
+    )
+    out = {"deceleration_m_per_s2": a, "start_speed_m_per_s": v_max, "end_speed_m_per_s": v_end,
+           "distance_m": distance, "duration_s": profile.times_s[-1] if cut else
+           float(result.timeseries.time_s[-1]), "budget_m": settings.ramp_budget_m,
+           "state": result.status["state"], "cut": cut}  # fmt: skip
+    if result.status["state"] not in COMPLETED_STATES:
+        out.update(status="run stopped", note=f"the ramp run stopped: {result.status['reason']}",
+                   critical_speed_m_per_s=None)  # fmt: skip
+        return out
+    out.update(classify_ramp(result.timeseries, settings.ramp_settle_m, a, settings))
+    if out["critical_speed_m_per_s"] is not None:
+        out["status"] = "converged"
+    elif cut and out.get("note") == "still hunting at the end of the ramp":
+        out["status"] = "budget exhausted"
+        out["note"] = (f"budget exhausted: {distance:g} m run, still hunting at {v_end:.1f} m/s "
+                       f"(the ramp to {v_min:g} m/s needs more)")  # fmt: skip
+    else:
+        out["status"] = "converged" if "no hunting" in out.get("note", "") else "not found"
+    return out
+
+
+def ramp_critical_speed(
+    vehicle: Vehicle,
+    track: Track | None = None,
+    settings: CriticalSpeedSettings | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> dict:
+    """Nonlinear critical speed by the ramp method at two rates (module docstring).
+
+    Returns ``critical_speed_m_per_s`` (the slower ramp's), ``resolution_m_per_s``,
+    ``rate_independent`` (the two ramps agree within the sum of their resolutions),
+    ``rate_difference_m_per_s``, ``status`` (``converged``, ``budget exhausted``, ``run stopped``
+    or ``not found``), ``ramps`` (both, each with its windows), ``speeds_m_per_s`` and
+    ``amplitude_m`` (the slower ramp's windows, for the figure), the disturbance and the
+    judgement."""
+    settings = settings or CriticalSpeedSettings()
+    track = track or ideal_straight_track()
+    ramps = []
+    for a in (settings.ramp_deceleration_m_per_s2, SLOWER * settings.ramp_deceleration_m_per_s2):
+        if progress:
+            progress(f"ramp: {settings.speed_max_m_per_s:g} -> {settings.speed_min_m_per_s:g} "
+                     f"m/s at {a:g} m/s^2 (budget {settings.ramp_budget_m:g} m)")  # fmt: skip
+        r = one_ramp(vehicle, track, a, settings)
+        ramps.append(r)
+        if progress:
+            v = r.get("critical_speed_m_per_s")
+            progress(f"ramp at {a:g} m/s^2: {r['status']}, " + (
+                f"cycle vanishes at {v:.2f} m/s (+-{r['resolution_m_per_s']:.2f})" if v else
+                r.get("note", "")))  # fmt: skip
+    fast, slow = ramps
+    out = {
+        "critical_speed_m_per_s": slow.get("critical_speed_m_per_s"),
+        "resolution_m_per_s": slow.get("resolution_m_per_s"),
+        "status": slow["status"],
+        "ramps": ramps,
+        "speeds_m_per_s": [w["speed_m_per_s"] for w in slow.get("windows", [])],
+        "amplitude_m": [w.get("amplitude_m") or 0.0 for w in slow.get("windows", [])],
+        "deceleration_m_per_s2": [fast["deceleration_m_per_s2"], slow["deceleration_m_per_s2"]],
+        "threshold_m": settings.threshold_m,
+        "disturbance": f"initial lateral offset {settings.initial_lateral_m * 1e3:g} mm, "
+        f"{settings.ramp_settle_m:g} m at {settings.speed_max_m_per_s:g} m/s before the ramp",
+        "judged_by": _judgement(settings)
+        .replace(f"each run {settings.distance_m:g} m", f"windows of {WINDOW_PERIODS:g} periods")
+        .replace(f" over the last {settings.fit_fraction:.0%} of the run's time", ""),
+    }
+    if slow.get("note"):
+        out["note"] = slow["note"]
+    if fast.get("note") and "budget" in fast["note"] and "note" not in out:
+        out["note"] = f"faster ramp: {fast['note']}"
+    v1, v2 = fast.get("critical_speed_m_per_s"), slow.get("critical_speed_m_per_s")
+    if v1 is not None and v2 is not None:
+        diff = abs(v1 - v2)
+        out["rate_difference_m_per_s"] = diff
+        out["rate_independent"] = diff <= fast["resolution_m_per_s"] + slow["resolution_m_per_s"]
+        if not out["rate_independent"]:
+            out["note"] = (f"rate-dependent: {v1:.2f} m/s at {fast['deceleration_m_per_s2']:g} "
+                           f"m/s^2, {v2:.2f} at {slow['deceleration_m_per_s2']:g}: slower "
+                           "ramps are needed")  # fmt: skip
+    if slow.get("note") == "still hunting at the end of the ramp":
+        out["unstable_in_range"] = True
+    return out

@@ -1,0 +1,471 @@
+"""The wear loop: run the route, accumulate the worn depth per wheel, step the mileage, update
+the profiles, repeat (docs/wear.md, "The loop").
+
+One step:
+
+1. every case of the route (a section in one direction, :mod:`.route`) is run with the current
+   profiles (``contact_outputs`` on) and worn by the chosen law over its evaluation window
+   (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
+   cases run on local worker processes (a study's: :mod:`railexu.study.worker`, forked from
+   the fork server of :mod:`railexu.runtime.fork_server`); a case that diverges is run again
+   with half the integration step down to :data:`MIN_TIME_STEP_S`; each case's result is kept in
+   ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
+2. the route's depth per km of each wheel is the share-weighted sum over the cases;
+3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
+4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
+   wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
+   per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
+   times ``dL`` is added to the depth cumulated since the start, which is taken off each
+   wheel's *new* profile (checked by :func:`~.profiles.profile_check`: a flange that is no
+   longer monotone stops the loop); the profiles are written to
+   ``step_NNN/profiles/`` and read back, so that the contact tables of the next step are built
+   from those files;
+5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
+   old and the new profile against the integral of the patches' volume rates times ``dL``);
+   per wheelset: the equivalent conicity (EN 15302, amplitude 3 mm, nonlinear method) on the
+   route's straight rails.
+
+The wheels wear, the rails do not (their wear per axle passage is reported per case).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from railexu.contact.conicity import equivalent_conicity
+from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.wear.laws import DEFAULT_WEAR_LAW, wear_law_code
+from railexu.errors import InputError
+from railexu.model.assembly import wheelset_geometry
+from railexu.profiles import wheel_profile
+from railexu.simulation.simulate import wheelset_order
+from railexu.study.wear.profiles import (
+    flange_measures,
+    profile_check,
+    removed_area,
+    smooth_depth,
+    worn_profile,
+)
+from railexu.study.wear.route import Route, RouteCase, load_route
+from railexu.vehicle.vehicle import Vehicle, load_vehicle
+
+__all__ = ["STEP_RULES", "WearLoopResult", "wear_loop"]
+
+STEP_RULES = ("max_depth", "fixed")
+#: rule max_depth: the largest change of the route's peak wear rate accepted over a step
+RATE_TOLERANCE = 1.5
+#: the smallest step depth the rate control halves to is max_depth / MAX_HALVINGS
+MAX_HALVINGS = 64
+#: a case that diverges is run again with half the integration step, down to this step [s]
+#: (docs/wear.md, "Worn profiles that diverge": the contact sweeping across a worn flange root
+#: needs 0.5 ms where the new profiles run with railexu's 2 ms)
+MIN_TIME_STEP_S = 2.5e-4
+#: the conicity amplitude (EN 15302: y = 3 mm) [m]
+CONICITY_AMPLITUDE_M = 0.003
+_SIDES = ("left", "right")
+
+
+@dataclass
+class WearLoopResult:
+    """What :func:`wear_loop` did: one row per step (mileage at its end, per wheel and
+    wheelset quantities) and where the files are."""
+
+    out: Path
+    steps: list[dict] = field(default_factory=list)
+    complete: bool = False
+    #: why the loop stopped before the mileage ("" when complete)
+    reason: str = ""
+
+    def column(self, key: str) -> np.ndarray:
+        """``key`` of every step's row, in order (NaN where missing)."""
+        return np.array([row.get(key, math.nan) for row in self.steps], dtype=float)
+
+
+def _wheel_keys(vehicle: Vehicle) -> list[tuple[str, int, str]]:
+    """``(ws{k}_{side}, vehicle index, side)`` of every wheel, wheelsets from the front."""
+    keys = []
+    for k, i in enumerate(wheelset_order(vehicle), start=1):
+        for side in _SIDES:
+            keys.append((f"ws{k}_{side}", i, side))
+    return keys
+
+
+def _with_profiles(vehicle: Vehicle, profiles: dict[str, str]) -> Vehicle:
+    """The vehicle with each wheel's profile file (``profiles[ws{k}_{side}]``)."""
+    wheelsets = list(vehicle.wheelsets)
+    for k, i in enumerate(wheelset_order(vehicle), start=1):
+        ws = wheelsets[i]
+        left, right = profiles[f"ws{k}_left"], profiles[f"ws{k}_right"]
+        wheelsets[i] = dataclasses.replace(
+            ws, wheel_profile=left, wheel_profile_right=right,
+            nominal_radius_right_m=ws.radius_right_m,
+        )  # fmt: skip
+    return dataclasses.replace(vehicle, wheelsets=type(vehicle.wheelsets)(wheelsets))
+
+
+def _run_case(args) -> dict:
+    """Run one case and wear it (in a worker process); returns arrays per wheel."""
+    vehicle, track_path, case, law, initial_lateral_m, gauge_m = args
+    from railexu.operation.run_settings import RunSettings
+    from railexu.results.run import run
+    from railexu.results.wear import WHEEL_GRID, run_wear
+    from railexu.track.track import load_track
+
+    track = load_track(track_path)
+    settings = RunSettings(
+        speed_m_per_s=case.speed_m_per_s, distance_m=case.distance_m,
+        initial_lateral_m=initial_lateral_m, contact_outputs=True,
+    )  # fmt: skip
+    t0 = time.perf_counter()
+    result = run(vehicle, track, settings)
+    # diverged: the same case with half the step (MIN_TIME_STEP_S at the least)
+    while result.status.get("state") == "diverged" and settings.time_step_s > MIN_TIME_STEP_S:
+        dt = max(MIN_TIME_STEP_S, 0.5 * settings.time_step_s)
+        settings = dataclasses.replace(
+            settings, time_step_s=dt, output_interval_s=settings.output_interval_s or 0.005
+        )
+        result = run(vehicle, track, settings)
+    wears = run_wear(
+        result.timeseries, vehicle, law, evaluate_from_m=case.evaluate_from_m, gauge_m=gauge_m
+    )
+    out: dict = {
+        "status": result.status.get("state", ""),
+        "wall_s": time.perf_counter() - t0,
+        "time_step_s": settings.time_step_s,
+        "grid": np.array(WHEEL_GRID),
+        "rail_grid": wears[0].rail_lateral_m,
+    }
+    for w in wears:
+        key = f"{w.wheelset}_{w.side}"
+        out[f"{key}_depth_per_km_m"] = w.depth_per_km_m
+        out[f"{key}_volume_rate_per_km_m2"] = np.array(w.volume_rate_per_km_m2)
+        out[f"{key}_rail_depth_per_axle_m"] = w.rail_depth_per_axle_m
+        out[f"{key}_summary"] = json.dumps(w.summary())
+    return out
+
+
+def _profile_stamp(profile: str) -> str:
+    """A profile's name, or its file's path and content digest (a step made again rewrites the
+    same file)."""
+    path = Path(profile)
+    if path.is_file():
+        return f"{path}:{hashlib.sha256(path.read_bytes()).hexdigest()}"
+    return str(profile)
+
+
+def _case_file(out: Path, step: int, case: RouteCase) -> Path:
+    return out / f"step_{step:03d}" / "cases" / f"{case.name}_{case.direction}.npz"
+
+
+def _run_cases(vehicle, route, out, step, law, workers, initial_lateral_m, log) -> dict:
+    """Every case's result of ``step``: read from its file if a previous (stopped) loop wrote
+    it with the same profiles, else run (on ``workers`` local processes)."""
+    tracks = out / "tracks"
+    todo, results = [], {}
+    stamp = json.dumps([_profile_stamp(ws.wheel_profile) for ws in vehicle.wheelsets]
+                       + [_profile_stamp(ws.profile_right) for ws in vehicle.wheelsets]
+                       + [law, initial_lateral_m])  # fmt: skip
+    for case in route.cases:
+        path = _case_file(out, step, case)
+        if path.is_file():
+            with np.load(path, allow_pickle=False) as data:
+                if str(data["stamp"]) == stamp:
+                    results[case] = {k: data[k] for k in data.files}
+                    continue
+        track = str(case.write_track(route, tracks))
+        todo.append((vehicle, track, case, law, initial_lateral_m, route.gauge_m))
+    if todo:
+        log(f"step {step}: running {len(todo)} case(s) on {min(workers, len(todo))} process(es)")
+    if workers > 1 and len(todo) > 1:
+        # the study's worker processes: forked from the fork server (never from this process,
+        # which may hold OpenMP threads), contacts on one thread, ending with this process
+        from railexu.runtime.fork_server import pool_context
+        from railexu.study.worker import _worker_init
+
+        n = min(workers, len(todo))
+        with ProcessPoolExecutor(n, mp_context=pool_context(), initializer=_worker_init,
+                                 initargs=(os.getpid(),)) as pool:  # fmt: skip
+            done = list(pool.map(_run_case, todo))
+    else:
+        done = [_run_case(t) for t in todo]
+    for args, res in zip(todo, done, strict=True):
+        case = args[2]
+        path = _case_file(out, step, case)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.stem}.tmp.npz")
+        np.savez(tmp, stamp=np.array(stamp), **{k: np.asarray(v) for k, v in res.items()})
+        tmp.replace(path)
+        results[case] = res
+    return results
+
+
+def _conicity(vehicle: Vehicle, track) -> dict:
+    """Equivalent conicity of every wheelset (EN 15302, y = 3 mm, nonlinear method)."""
+    out = {}
+    for k, i in enumerate(wheelset_order(vehicle), start=1):
+        geometry = wheelset_geometry(vehicle.wheelsets[i], track)
+        model = WheelsetContactModel(geometry, vehicle.contact, 10.0)
+        gamma = equivalent_conicity(model, [CONICITY_AMPLITUDE_M], out_of_range="nan")[0][0]
+        out[f"ws{k}_conicity"] = float(gamma)
+    return out
+
+
+def _straight_track(route: Route, out: Path):
+    from railexu.track.track import load_track
+
+    case = RouteCase("conicity", 1.0, 10.0, 20.0, None, 0.0, "forward")
+    return load_track(case.write_track(route, out / "tracks"))
+
+
+def wear_loop(
+    vehicle: Vehicle | str | Path,
+    route: Route | str | Path,
+    mileage_km: float,
+    out: str | Path,
+    law: str = DEFAULT_WEAR_LAW,
+    step_rule: str = "max_depth",
+    max_depth_m: float = 1.0e-4,
+    step_km: float | None = None,
+    smoothing_m: float = 3.0e-3,
+    workers: int = 1,
+    max_steps: int = 100,
+    initial_lateral_m: float = 0.0,
+    rate_tolerance: float | None = RATE_TOLERANCE,
+    log=None,
+) -> WearLoopResult:
+    """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
+
+    Args:
+        vehicle: a vehicle or its file; route: a route or its file (:mod:`.route`).
+        mileage_km: the mileage to reach [km].
+        out: the output folder (``steps.csv``, ``wear.json``, ``step_NNN/``, ``tracks/``).
+        law: the wear law (:data:`~railexu.contact.wear.laws.WEAR_LAWS`).
+        step_rule: ``max_depth`` (the largest depth per step is ``max_depth_m``) or ``fixed``
+            (``step_km`` per step).
+        smoothing_m: standard deviation of the Gaussian smoothing of the depth [m]; 3 mm by
+            default (with 1 mm the wagon's curve cases diverged on the first worn profiles,
+            docs/wear.md).
+        workers: local processes for the cases of a step.
+        max_steps: the most steps (the loop stops there and says so in ``wear.json``).
+            A case that does not complete (derailed, diverged) also stops the loop, with the
+            profiles so far and the reason in ``wear.json``.
+        initial_lateral_m: the wheelsets' initial lateral offset in each case [m].
+        rate_tolerance: rule ``max_depth``: a step over which the route's largest wear rate
+            changes by more than this factor (up or down) is made again with half the depth
+            (at most :data:`MAX_HALVINGS` times); the next step may double again up to
+            ``max_depth_m``. None or 0: no control.
+        log: a callable taking one line of progress (default: none).
+
+    Raises:
+        InputError: bad arguments or input files.
+    """
+    log = log or (lambda line: None)
+    wear_law_code(law)
+    if step_rule not in STEP_RULES:
+        raise InputError(f"{step_rule!r}: expected {' or '.join(STEP_RULES)}", key="step_rule")
+    if not (math.isfinite(mileage_km) and 0.0 < mileage_km <= 1e7):
+        raise InputError(f"{mileage_km!r}: expected 0 < mileage <= 1e7 km", key="mileage")
+    if step_rule == "max_depth" and not (0.0 < max_depth_m <= 2e-3):
+        raise InputError(f"{max_depth_m!r} m: expected 0 < max depth <= 2 mm", key="max_depth")
+    if step_rule == "fixed" and not (step_km and math.isfinite(step_km) and step_km > 0.0):
+        raise InputError(f"{step_km!r}: expected a step > 0 km", key="step_km")
+    if not (0.0 <= smoothing_m <= 0.01):
+        raise InputError(f"{smoothing_m!r} m: expected 0 .. 10 mm", key="smoothing")
+    if isinstance(vehicle, str | Path):
+        vehicle = load_vehicle(vehicle)
+    if isinstance(route, str | Path):
+        route = load_route(route)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    keys = _wheel_keys(vehicle)
+    profiles = {}
+    for key, i, side in keys:
+        ws = vehicle.wheelsets[i]
+        profiles[key] = ws.wheel_profile if side == "left" else ws.profile_right
+    straight = _straight_track(route, out)
+    result = WearLoopResult(out=out)
+    mileage, step, rejected = 0.0, 0, 0
+    current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
+    # the new profiles and the depth removed since: every worn profile is the new one minus the
+    # cumulated depth (the re-read points' errors do not accumulate over the steps)
+    original = dict(current)
+    total: dict[str, np.ndarray] = {}
+    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
+    row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
+    result.steps.append(row0)
+    _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m, False, "")
+    reason = ""
+    last = None  # the step just made: the profiles and rates it started from, its depth
+    depth_limit = max_depth_m
+    control = step_rule == "max_depth" and bool(rate_tolerance)
+    while True:
+        reached = mileage >= mileage_km * (1.0 - 1e-9)
+        if reached and (not control or last is None or last.get("checked")):
+            break
+        if step >= max_steps and not reached:
+            reason = f"stopped after max_steps = {max_steps} steps at {mileage:.4g} km"
+            break
+        rates = _route_rates(vehicle, profiles, route, out, step, law, workers,
+                             initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+        if rates["bad"]:
+            # a case that derailed, diverged or was stopped wears over part of its window only:
+            # the loop stops here with the profiles so far and says why
+            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete: "
+                      f"{'; '.join(rates['bad'])}")  # fmt: skip
+            log(reason)
+            break
+        if last is not None and control:
+            ratio = rates["peak"] / last["rates"]["peak"]
+            if not (1.0 / rate_tolerance <= ratio <= rate_tolerance) and (
+                last["depth"] > max_depth_m / MAX_HALVINGS
+            ):
+                # the rate changed too much over the last step: make it again with half the depth
+                result.steps.pop()
+                step -= 1
+                profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
+                total = last["total"]
+                rates, depth_limit = last["rates"], 0.5 * last["depth"]
+                rejected += 1
+                log(f"step {step + 1} made again with half the depth "
+                    f"({depth_limit * 1e3:.4g} mm): the largest wear rate changed by a factor "
+                    f"{ratio:.3g} over it")  # fmt: skip
+            else:
+                last["checked"] = True
+                depth_limit = min(max_depth_m, 2.0 * last["depth"])
+                if reached:
+                    break
+        if not rates["peak"] > 0.0:
+            reason = "no wear on this route (every depth is zero)"
+            break
+        dl = depth_limit / rates["peak"] if step_rule == "max_depth" else float(step_km)
+        dl = min(dl, mileage_km - mileage)
+        last = {"profiles": dict(profiles), "current": dict(current), "mileage": mileage,
+                "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
+        step += 1
+        row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
+               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected,
+               "min_time_step_ms": rates["min_time_step_s"] * 1e3}  # fmt: skip
+        new, total = {}, dict(total)
+        for key, _, _ in keys:
+            worn = rates["smooth"][key] * dl
+            total[key] = total.get(key, 0.0) + worn
+            path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
+            new[key] = worn_profile(original[key], rates["y"], total[key], path,
+                                    f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
+            check = profile_check(new[key], original[key])
+            row[f"{key}_flange_monotone"] = int(check["flange_monotone"])
+            row[f"{key}_max_curvature_change_1_per_m"] = check["max_curvature_change_1_per_m"]
+            area = removed_area(current[key], new[key])
+            expected = rates["vol"][key] * dl
+            row[f"{key}_area_mm2"] = area * 1e6
+            row[f"{key}_area_integral_mm2"] = expected * 1e6
+            row[f"{key}_conservation_error"] = area / expected - 1.0 if expected > 0 else 0.0
+            row[f"{key}_max_depth_mm"] = float(worn.max() * 1e3)
+            profiles[key] = str(path.resolve())
+        current = new
+        mileage += dl
+        row.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
+        result.steps.append(row)
+        log(f"step {step}: {mileage:.5g} km (+{dl:.4g} km), largest depth "
+            f"{max(row[f'{k}_max_depth_mm'] for k, _, _ in keys):.4f} mm")  # fmt: skip
+        _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
+                     False, "")  # fmt: skip
+        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]]
+        if folded:
+            reason = (
+                f"at {mileage:.6g} km the worn flange of {', '.join(folded)} is no longer "
+                "monotone (the radius does not fall from the flange tip to the tape circle)"
+            )
+            log(reason)
+            break
+    result.complete = not reason
+    result.reason = reason
+    _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
+                 result.complete, reason)  # fmt: skip
+    return result
+
+
+def _route_rates(vehicle, profiles, route, out, step, law, workers, initial_lateral_m, keys,
+                 smoothing_m, log) -> dict:  # fmt: skip
+    """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
+    volume rate per km, the largest depth per km and the cases that did not complete."""
+    veh = _with_profiles(vehicle, profiles)
+    cases = _run_cases(veh, route, out, step, law, workers, initial_lateral_m, log)
+    bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
+           if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
+    steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
+    grid = np.asarray(next(iter(cases.values()))["grid"])
+    depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
+             for k, _, _ in keys}  # fmt: skip
+    vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
+           for k, _, _ in keys}  # fmt: skip
+    smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
+    return {
+        "smooth": smooth,
+        "vol": vol,
+        "peak": max(float(d.max()) for d in smooth.values()),
+        "bad": bad,
+        "min_time_step_s": min(steps) if steps else math.nan,
+        "y": grid[0] + grid[1] * np.arange(int(grid[2])),
+    }
+
+
+def _measures(profiles: dict, conicity: dict) -> dict:
+    row = dict(conicity)
+    for key, p in profiles.items():
+        for name, value in flange_measures(p).items():
+            row[f"{key}_{name[:-2]}_mm"] = value * 1e3
+    return row
+
+
+def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_m, complete,
+                 reason) -> None:  # fmt: skip
+    """``steps.csv`` (one row per step) and ``wear.json`` (settings, rule, completion)."""
+    keys: list[str] = []
+    for row in result.steps:
+        keys += [k for k in row if k not in keys]
+    lines = [",".join(keys)]
+    for row in result.steps:
+        lines.append(",".join(_cell(row.get(k, "")) for k in keys))
+    _atomic(out / "steps.csv", "\n".join(lines) + "\n")
+    info = {
+        "complete": complete,
+        "reason": reason,
+        "route": route.path or route.name,
+        "law": law,
+        "step_rule": rule,
+        "rule_text": (
+            f"each step's largest depth on any wheel is {max_depth_m * 1e3:g} mm"
+            if rule == "max_depth"
+            else f"fixed steps of {step_km} km"
+        ),
+        "smoothing_m": smoothing_m,
+        "mileage_km": result.steps[-1]["mileage_km"] if result.steps else 0.0,
+        "steps": len(result.steps) - 1,
+        "conicity": "EN 15302, y = 3 mm, nonlinear method, on the route's straight rails",
+        "cases": [dataclasses.asdict(c) for c in route.cases],
+        "pid": os.getpid(),
+    }
+    _atomic(out / "wear.json", json.dumps(info, indent=1) + "\n")
+
+
+def _cell(v) -> str:
+    if isinstance(v, float):
+        return f"{v:.10g}"
+    return str(v).replace(",", ";")
+
+
+def _atomic(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)

@@ -1,0 +1,33 @@
+"""Reading CONTACT's ``.ref_out`` (wheel-rail module) for the S&C tests: per case the wheelset
+position, the total vertical force and per patch its reference location, angle and normal
+force, in SI units."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def _floats(line: str) -> list[float]:
+    return [float(v) for v in line.split()]
+
+
+def read_ref_out(path: Path) -> list[dict]:
+    """The cases of a ``.ref_out`` file: ``s_m, y_m, z_m, fz_n, patches`` (each patch
+    ``x_m, y_m, z_m, delta_rad, fn_n``; ``y, z`` in the rail profile's coordinates)."""
+    lines = path.read_text(errors="replace").splitlines()
+    cases: list[dict] = []
+    for i, line in enumerate(lines):
+        head = line.split()
+        if head[:1] == ["S_WS"]:
+            s, y, z = _floats(lines[i + 1])[:3]
+            cases.append({"s_m": s * 1e-3, "y_m": y * 1e-3, "z_m": z * 1e-3, "patches": []})
+        elif head[:1] == ["FX(TR)"]:
+            cases[-1]["fz_n"] = _floats(lines[i + 1])[2]
+        elif head[:1] == ["XCP(TR)"]:
+            v = _floats(lines[i + 1])
+            cases[-1]["patches"].append(
+                {"x_m": v[0] * 1e-3, "y_m": v[4] * 1e-3, "z_m": v[5] * 1e-3, "delta_rad": v[3]}
+            )
+        elif head[:2] == ["FN", "FX"]:
+            cases[-1]["patches"][-1]["fn_n"] = _floats(lines[i + 1])[0]
+    return cases
