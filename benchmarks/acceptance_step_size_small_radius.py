@@ -51,8 +51,11 @@ def run_section(
     t0 = time.perf_counter()
     result = run(vehicle, track, settings)
     wall = time.perf_counter() - t0
+    state = result.status["state"]
+    if state not in ("completed", "completed_with_exceedances"):
+        return index, step_s, f"{state} at {result.status.get('distance_m', 0.0):.1f} m", {}, wall
     values = section_values(result.timeseries, vehicle, section).values
-    return index, step_s, result.status["state"], dict(values), wall
+    return index, step_s, state, dict(values), wall
 
 
 def main() -> None:
@@ -83,16 +86,15 @@ def main() -> None:
 
 
 def _print_section(i: int, steps: list[float], results: dict) -> None:
-    finest = steps[-1]
     print("  status: " + ", ".join(f"{s * 1000:g} ms {results[(i, s)][0]} "
                                     f"({results[(i, s)][2]:.0f} s)" for s in steps))  # fmt: skip
     header = "".join(f"{f'{s * 1000:g} ms':>12s}" for s in steps)
     diffs = "".join(f"{f'd{s * 1000:g} %':>9s}" for s in steps[:-1])
     print(f"  {'quantity':26s}{header}{diffs}  tol %")
-    names = results[(i, finest)][1].keys()
+    names = next((v[1].keys() for s in reversed(steps) if (v := results[(i, s)])[1]), ())
     for name in names:
         vals = [results[(i, s)][1].get(name, math.nan) for s in steps]
-        ref = vals[-1]
+        ref = vals[-1] if len(vals) > 0 else math.nan
         rel = [100.0 * (v - ref) / abs(ref) if ref and math.isfinite(ref) else math.nan
                for v in vals[:-1]]  # fmt: skip
         tol = 1.0 if name in QUASI_STATIC else 5.0
