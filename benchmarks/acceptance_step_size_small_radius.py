@@ -10,8 +10,8 @@ prints every quantity of every section at every step with its difference relativ
 finest step. The tolerances (1 % quasi-static, 5 % peaks) are those of docs/acceptance.md.
 
 Run: ``python benchmarks/acceptance_step_size_small_radius.py [--sections 0,1,2]
-[--steps 2,1,0.5] [--workers N] [--full]`` (steps in ms; ``--full``: indices of the full
-programme's 50 sections instead of the quick programme's 4).
+[--steps 2,1,0.5] [--workers N] [--full] [--zone NAME]`` (steps in ms; ``--full``: indices of
+the full programme's 50 sections instead of the quick programme's 4; ``--zone``: another zone).
 """
 
 from __future__ import annotations
@@ -29,10 +29,10 @@ QUASI_STATIC = ("Y_qst", "Q_qst", "car_body_acc_y_qst")
 
 
 def run_section(
-    index: int, step_s: float, full: bool = False
+    index: int, step_s: float, full: bool = False, zone_name: str = ZONE
 ) -> tuple[int, float, str, dict, float]:
-    """Run section ``index`` of the quick (or with ``full`` the full) programme's zone at
-    ``step_s``: (index, step, status, section values, wall time s)."""
+    """Run section ``index`` of the quick (or with ``full`` the full) programme's zone
+    ``zone_name`` at ``step_s``: (index, step, status, section values, wall time s)."""
     from railexu.assessment.acceptance.programme import load_programme
     from railexu.assessment.acceptance.quantities import section_values
     from railexu.operation.run_settings import RunSettings
@@ -41,7 +41,7 @@ def run_section(
     from railexu.track.track import track_from_dict
     from railexu.vehicle.vehicle import load_vehicle
 
-    zone = load_programme("coach", quick=not full).zone(ZONE)
+    zone = load_programme("coach", quick=not full).zone(zone_name)
     section = zone.sections()[index]
     vehicle = load_vehicle("manchester_coach_extended")
     track = track_from_dict(zone_track(zone, [section], start_lead_m(vehicle)))
@@ -64,14 +64,15 @@ def main() -> None:
     parser.add_argument("--steps", default="2,1,0.5", help="time steps in ms, coarsest first")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--full", action="store_true", help="sections of the full programme")
+    parser.add_argument("--zone", default=ZONE, help="another zone of the coach programme")
     args = parser.parse_args()
     sections = [int(s) for s in args.sections.split(",")]
     steps = [float(s) / 1000.0 for s in args.steps.split(",")]
 
     from railexu.assessment.acceptance.programme import load_programme
 
-    specs = load_programme("coach", quick=not args.full).zone(ZONE).sections()
-    jobs = [(i, s, args.full) for i in sections for s in steps]
+    specs = load_programme("coach", quick=not args.full).zone(args.zone).sections()
+    jobs = [(i, s, args.full, args.zone) for i in sections for s in steps]
     results: dict[tuple[int, float], tuple[str, dict, float]] = {}
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         for index, step, state, values, wall in pool.map(run_section, *zip(*jobs, strict=True)):
