@@ -88,6 +88,11 @@ def test_every_quantity_agrees_at_half_the_step(two_steps):
     _assert_agree(out[0.002].values, out[0.001].values)
 
 
+@pytest.mark.xfail(
+    reason="needs the patch-centroid contact of branch h5 (issue 28), not merged: main's "
+    "flange-root chatter makes this zone's peaks depend on the step",
+    strict=False,
+)
 def test_flanging_section_of_the_small_radius_zone_agrees_at_half_the_step(
     small_radius_two_steps,
 ):
