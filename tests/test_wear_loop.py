@@ -330,3 +330,47 @@ def test_loop_runs_on_the_study_runner_and_resumes(tmp_path):
     ran = [line for line in lines if "case(s) run" in line]
     assert len(ran) == 1 and ran[0].startswith("step_001: 1 case(s) run (1 from before)"), lines
     assert third.steps[-1]["mileage_km"] == pytest.approx(second.steps[-1]["mileage_km"])
+
+
+def test_trend_curvy_route_thins_the_flange(loop_result):
+    """Trend physics, curvy route (R 200 m both ways, 80 % of the mileage): the flange thins on
+    both wheels (Sd falls, EN 15313), its height Sh stays (the flange tip never touches), and the
+    largest depth lies at the flange root, between the tread's end of S1002's flange-root arc
+    and the 70 deg flank (s = -40 .. -25 mm from the tape circle), where the rigid contact of a
+    wheelset shifted to its flange lies (docs/wear.md, "The conicity trend")."""
+    new, last = loop_result.steps[0], loop_result.steps[-1]
+    out = loop_result.out
+    s = np.linspace(-0.065, 0.055, 2401)
+    p0 = wheel_profile("S1002").height(s)
+    for key in ("ws1_left", "ws1_right"):
+        assert last[f"{key}_flange_thickness_mm"] < new[f"{key}_flange_thickness_mm"] - 1e-3
+        assert last[f"{key}_flange_height_mm"] == pytest.approx(28.0, abs=1e-3)
+        p = wheel_profile(out / f"step_{last['step']:03d}" / "profiles" / f"{key}.txt")
+        depth = p0 - p.height(s)
+        assert -0.040 <= s[int(np.argmax(depth))] <= -0.025
+
+
+def test_trend_straight_track_hollows_the_tread(tmp_path):
+    """Trend physics, straight track: the wheels wear on the tread only, in the band the contact
+    of a centred or slightly shifted wheelset sweeps (|s| < 20 mm; nothing at the flange root,
+    s < -25 mm), and the equivalent conicity rises (EN 15302, 3 mm): the worn band lowers the
+    radius around the nominal rolling circle, so the radius difference grows faster with the
+    lateral shift (a hollow tread; docs/wear.md: 0.1845 -> 0.1874 over 50 000 km)."""
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 30 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
+    r = wear_loop("wheelset", route, 1e5, tmp_path / "out", max_depth_m=5e-5, max_steps=1,
+                  rate_tolerance=None, workers=0)  # fmt: skip
+    new, last = r.steps[0], r.steps[-1]
+    assert last["ws1_conicity"] > new["ws1_conicity"] + 1e-4
+    s = np.linspace(-0.065, 0.055, 2401)
+    p0 = wheel_profile("S1002").height(s)
+    p = wheel_profile(tmp_path / "out" / "step_001" / "profiles" / "ws1_left.txt")
+    depth = p0 - p.height(s)
+    assert depth.max() > 1e-5
+    assert depth[s < -0.025].max() < 0.01 * depth.max()
+    assert abs(s[int(np.argmax(depth))]) < 0.020
+    # the flange is not worn: Sd does not fall (it grows a little: tread wear at the tape
+    # circle lowers EN 15313's reference, so the Sd point 10 mm above it moves down the flank)
+    assert last["ws1_left_flange_thickness_mm"] >= 32.5 - 1e-4
