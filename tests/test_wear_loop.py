@@ -374,3 +374,29 @@ def test_trend_straight_track_hollows_the_tread(tmp_path):
     # the flange is not worn: Sd does not fall (it grows a little: tread wear at the tape
     # circle lowers EN 15313's reference, so the Sd point 10 mm above it moves down the flank)
     assert last["ws1_left_flange_thickness_mm"] >= 32.5 - 1e-4
+
+
+def test_loop_on_a_dask_cluster_gives_the_same_profiles(tmp_path):
+    """``scheduler``: a step's cases run as tasks of a Dask cluster (here a local one, one
+    worker process) and their files come back into the step's study folder; the worn profiles
+    are those of the same loop run in this process, to the byte."""
+    distributed = pytest.importorskip("distributed")
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 5 m, directions: forward}\n")  # fmt: skip
+    here = wear_loop("wheelset", route, 1e4, tmp_path / "here", max_steps=1, workers=0,
+                     rate_tolerance=None)  # fmt: skip
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        dask = wear_loop("wheelset", route, 1e4, tmp_path / "dask", max_steps=1,
+                         scheduler=cluster.scheduler_address, rate_tolerance=None)  # fmt: skip
+    assert dask.steps[1]["mileage_km"] == here.steps[1]["mileage_km"]
+    case = tmp_path / "dask" / "step_000" / "route" / "cases" / "case_0000"
+    assert (case / "timeseries.csv").is_file()
+    for key in ("ws1_left", "ws1_right"):
+        name = f"step_001/profiles/{key}.txt"
+        assert (tmp_path / "dask" / name).read_text().splitlines()[1:] == (
+            tmp_path / "here" / name
+        ).read_text().splitlines()[1:]
