@@ -14,11 +14,13 @@ A case that diverges is run again with half the integration step, down to
 :data:`MIN_TIME_STEP_S`, as a study of the diverged cases alone in the folder of that step
 (``route_dt1ms``, ...). Each case's wear (:func:`railexu.results.wear.run_wear` of its recorded
 ``timeseries.csv``, in this process) is kept in ``cases/<section>_<direction>.npz`` with the
-case's hash and the law, so that a resumed loop does not compute it again.
+case's hash, the law and the coefficient file's digest, so that a resumed loop does not compute
+it again.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import shutil
@@ -183,12 +185,14 @@ def _case_file(step_dir: Path, case: RouteCase) -> Path:
 def _case_wear(vehicle, route, case, case_dir: Path, row: dict, dt: float, law: str,
                step_dir: Path) -> dict:  # fmt: skip
     """The wear of one finished case, from its ``.npz`` when it was computed for the same case
-    hash and law, else from its ``timeseries.csv``."""
+    hash, law and coefficient file, else from its ``timeseries.csv``."""
+    from railexu.contact.wear.coefficients import COEFFICIENTS_FILE
     from railexu.results.wear import WHEEL_GRID, run_wear
     from railexu.simulation.timeseries import TimeSeries
 
     status = row["status"]
-    stamp = json.dumps([row["case_hash"], status, law, str(case_dir)])
+    coefficients = hashlib.sha256(COEFFICIENTS_FILE.read_bytes()).hexdigest()
+    stamp = json.dumps([row["case_hash"], status, law, coefficients, str(case_dir)])
     path = _case_file(step_dir, case)
     if path.is_file():
         with np.load(path, allow_pickle=False) as data:
