@@ -13,11 +13,12 @@ and yaw, moving the wheelset towards the outer rail deepens the gap at every poi
 contact angle is positive (the rail rises towards its gauge side), so the elastic interference
 grows everywhere and the wheel's normal load must not fall (Hertz: ``N = K delta^1.5``), and
 it must not jump over a micrometre. The new S1002 meets this over the sweep; the worn profile
-does not: its load falls from 137 kN to 106 kN over 16 um at the operating point (the loaded
-point jumps from the flange root at -32.7 mm to -34.7 mm and a third candidate appears at the
-flank junction), a defect of the contact layer that remains after the patch-centroid contact
-(issue 28). The two worn-profile tests are marked as expected to fail (strict) until the contact
-layer treats this nearly conformal band.
+does not: its load falls from 137 kN to 106 kN over 16 um at the operating point (the
+flange-root point's candidate weight falls 1.00 -> 0.48 while its approach grows and a flank
+point at -38.5 mm takes load; a third candidate appears a few um further), a defect of the
+contact layer that remains after the patch-centroid contact (issue 28). The two worn-profile
+tests are marked as expected to fail (strict) until the contact layer treats this nearly
+conformal band.
 """
 
 from __future__ import annotations
