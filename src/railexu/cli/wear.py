@@ -53,6 +53,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def command(args: argparse.Namespace) -> int:
+    if args.scheduler is None and args.workers != 0:
+        # the study's local workers: their fork server preloads on another core meanwhile
+        from railexu.runtime import fork_server
+
+        fork_server.start()
     from railexu.report.wear_figures import wear_figures
     from railexu.study.wear.loop import _wheel_keys, wear_loop
     from railexu.vehicle.vehicle import load_vehicle
