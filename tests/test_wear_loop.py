@@ -400,3 +400,26 @@ def test_loop_on_a_dask_cluster_gives_the_same_profiles(tmp_path):
         assert (tmp_path / "dask" / name).read_text().splitlines()[1:] == (
             tmp_path / "here" / name
         ).read_text().splitlines()[1:]
+
+
+def test_interrupted_loop_says_so_and_resumes(tmp_path):
+    """Ctrl-C (here raised from the progress log after the first study) leaves wear.json saying
+    the loop is not complete and was interrupted; the same loop run again resumes: the
+    finished study is not run again."""
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 5 m, directions: forward}\n")  # fmt: skip
+
+    def stop(line: str) -> None:
+        if "case(s) run" in line:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        wear_loop("wheelset", route, 1e4, tmp_path / "out", max_steps=1, workers=0, log=stop)
+    info = json.loads((tmp_path / "out" / "wear.json").read_text())
+    assert info["complete"] is False and info["reason"].startswith("interrupted at 0 km")
+    lines: list[str] = []
+    wear_loop("wheelset", route, 1e4, tmp_path / "out", max_steps=1, workers=0,
+              rate_tolerance=None, log=lines.append)  # fmt: skip
+    assert not [line for line in lines if "case(s) run" in line]
