@@ -32,6 +32,7 @@ The wheels wear, the rails do not (their wear per axle passage is reported per c
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 import os
@@ -145,6 +146,21 @@ def _straight_track(route: Route, out: Path):
     return load_track(case.write_track(route, out / "tracks"))
 
 
+def _sigterm_as_interrupt(func):
+    """SIGTERM raises :class:`~railexu.errors.RunTerminated` (a ``KeyboardInterrupt``) while
+    the loop runs, as in :func:`railexu.study.run_study`: the loop writes that it was
+    interrupted and stops cleanly instead of being killed between two studies."""
+    from railexu.study.runner import _sigterm_raises
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        with _sigterm_raises():
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
+@_sigterm_as_interrupt
 def wear_loop(
     vehicle: Vehicle | str | Path,
     route: Route | str | Path,
