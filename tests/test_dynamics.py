@@ -117,9 +117,10 @@ def test_static_equilibrium_wheel_loads_and_symmetry():
 def test_time_step_against_fine_reference():
     """The default 2 ms step (and 1 ms) against a 0.25 ms reference on the seed scenario's start
     (EU07, 10 m/s, 2 mm). Measured (contact force at the patch's load centroid, issue 28): peak
-    lateral wheel force 2.91 kN; the largest difference is at the first output sample (0.01 s,
-    the creep forces building up from the initial state): 254 N at 2 ms, 49 N at 1 ms (a factor
-    5.1 per halving, second order); after 0.5 s 7 N and 5 N. Lateral displacements within 0.7 um.
+    lateral wheel force 2.55 kN; the largest difference is at the first output sample (0.01 s,
+    the creep forces building up from the initial state): 201 N at 2 ms, 45 N at 1 ms (a factor
+    4.5 per halving, second order); after 0.5 s 13 N and 6 N. Lateral displacements within
+    0.7 um.
     Asserted with margin: 0.1 % of the offset; after 0.5 s 2 % of the peak; over the run 10 % of
     the peak at 2 ms and 3 % at 1 ms, and the error at least 3 times smaller at 1 ms (a step
     error, not a model change, is what the start-up difference is)."""
