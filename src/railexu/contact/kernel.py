@@ -27,8 +27,7 @@ b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and i
    (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
 c) *Normal force.* Each minimum is a patch (:func:`patch_centre`, issue 28): the force acts at
    the centroid of its load (virtual penetration, Kik and Piotrowski 2008), with the approach
-   along the normal there and Hertz's lateral curvature from the load's spread, the
-   longitudinal one from the wheel at the minimum (:mod:`railexu.contact.hertz`); so two
+   along the normal there and Hertz's curvatures there (:mod:`railexu.contact.hertz`); so two
    minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch.
    The damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
@@ -951,11 +950,17 @@ def candidate_weights(n, cand_g, cand_h, weights):
 #: virtual penetration ``(1 - PATCH_EPSILON) g_k - g(s)`` there (for a Hertzian circle with
 #: ``eps = 0.5`` exactly Hertz's line load ``1 - (y / b)^2`` over the true width).
 PATCH_EPSILON = 0.55
-#: Steps of the sum over the patch (:func:`patch_centre`): a tenth of the patch's half-width
+#: Steps of the sum over the patch (:func:`patch_centre`): this share of the patch's half-width
 #: estimated from the curvatures at the minimum, within these bounds [m]; most steps each way.
+#: A fifth: the centroid of a parabolic load on that grid is exact by symmetry, and the sum's
+#: error for an asymmetric one is of order step^2; a tenth cost 25 % more on the seed run.
 PATCH_STEP_MIN = 5.0e-5
-PATCH_STEP_MAX = 5.0e-4
+PATCH_STEP_MAX = 1.0e-3
+PATCH_STEP_SHARE = 0.2
 PATCH_MAX_STEPS = 400
+#: Golden-section steps for the hump between two minima of a patch: 0.618^24 = 1e-5 of their
+#: distance (0.1 um over 10 mm), far below the +-step over which the hump's side is switched.
+HUMP_ITERATIONS = 24
 
 
 @numba.njit(inline="always", **_JIT)
@@ -1011,7 +1016,7 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
                 share = _neighbour_share(hump, cand_g[nb], threshold)
                 lo = min(cand_s[j], cand_s[nb])
                 hi = max(cand_s[j], cand_s[nb])
-                hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, 40)
+                hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
                 crossing = True
         for i in range(1, PATCH_MAX_STEPS + 1):
             s = s_k + direction * i * step
@@ -1038,7 +1043,7 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
                             share = _neighbour_share(hump, cand_g[nb], threshold)
                             lo = min(cand_s[j], cand_s[nb])
                             hi = max(cand_s[j], cand_s[nb])
-                            hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, 40)
+                            hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
                             crossing = True
             if w > 0.0:
                 num += chi * w * s
@@ -1140,14 +1145,13 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         kwy = -_linear(wtab, 3, ws0, wstep, wn, s_min) / (q * math.sqrt(q))
         kry = -_linear(rtab, 3, ry0, rstep, rn, Py) * inv * inv * inv
         # the point where the force acts, whose normal, radius and velocity are used: the
-        # centroid of the patch's line load (issue 28; the minimum for a symmetric patch); the
-        # lateral relative curvature B of Hertz's ellipse from the spread of that load
+        # centroid of the patch's line load (issue 28; the minimum for a symmetric patch)
         s = s_min
         b_lat = 0.5 * (kwy + kry)
         if delta > 0.0:
             half_width = math.sqrt(PATCH_EPSILON * delta / max(b_lat, 1.0)) * inv
-            step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, 0.1 * half_width))
-            s, variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
+            step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, PATCH_STEP_SHARE * half_width))
+            s, _variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
             if s != s_min:
                 F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
                 g_c, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
@@ -1158,9 +1162,9 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
                 # does not change the force (along its own normal the steep flange minimum had
                 # 0.4 times the root's approach at the same vertical depth)
                 delta = -g * inv
-            # g = -d + B_v s^2 has the variance eps d / (5 B_v); B = B_v cos^3(gamma) in the
-            # contact plane (normal separation g cos(gamma), width s / cos(gamma))
-            b_lat = PATCH_EPSILON * (-g) / (5.0 * variance) * inv * inv * inv
+                # Hertz's curvatures stay the minimum's (the profiles' curvature averaged over
+                # the contact width, tables' column 3): between two minima of one valley the
+                # relative curvature can be zero or negative, where Hertz has no answer
         u = -F1 * tpsi
         w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
