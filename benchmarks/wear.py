@@ -4,8 +4,10 @@ Printed:
 
 - one step of the wear loop (``railexu.study.wear.loop.wear_loop``, ``max_steps=1``) of the
   loaded wagon (``hbbins_loaded``) on ``studies/wear/curvy_10.yaml`` (a straight and nine
-  curves in both directions: 19 cases) on 2 local worker processes, and the same with the free
-  wheelset (the vehicle of the tests): wall time, cases, the time per case;
+  curves in both directions: 19 cases, one study through ``run_study``) on 2 local worker
+  processes, and the same with the free wheelset (the vehicle of the tests): wall time, cases,
+  the time per case and the real-time factor (wall time over the simulated time of the cases,
+  their distances over their speeds, summed: below 1 is faster than real time);
 - a run of the wagon on the R 300 m case with and without ``contact_outputs`` (the recording the
   wear needs) and the wear post-processing of that run (``railexu.results.wear.run_wear``): the
   run's cost with the wear output off is unchanged by construction (nothing is computed), the
@@ -31,12 +33,15 @@ def one_step(vehicle: str, workers: int) -> None:
     route = load_route(ROUTE)
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        result = wear_loop(vehicle, route, 1e6, Path(tmp) / "out", workers=workers, max_steps=1)
+        result = wear_loop(vehicle, ROUTE, 1e6, Path(tmp) / "out", workers=workers, max_steps=1,
+                           rate_tolerance=None)  # fmt: skip
         wall = time.perf_counter() - t0
     n = len(route.cases)
     row = result.steps[-1]
+    simulated = sum(c.distance_m / c.speed_m_per_s for c in route.cases)
     print(f"{vehicle}: one wear step, {n} cases on {workers} processes: {wall:.1f} s "
-          f"({wall / n:.2f} s a case), step {row['step_km']:.4g} km")  # fmt: skip
+          f"({wall / n:.2f} s a case), {simulated:.1f} s simulated: real-time factor "
+          f"{wall / simulated:.2f}; step {row['step_km']:.4g} km")  # fmt: skip
 
 
 def output_cost() -> None:

@@ -54,6 +54,8 @@ def test_route_cases_and_shares(tmp_path):
         ("  - {name: a, share: 1, speed: .nan, length: 10 m}", r"sections\[0\].speed"),
         ("  - {name: a, share: 1, speed: 20 m/s, length: 10 m, cant: 100 mm}",
          "cant needs a radius"),
+        ("  - {name: a, share: 1, speed: 20 m/s, length: 5 m, radius: 300 m}",
+         r"sections\[0\].length: '5 m': a curve must be longer than the 5 m of settling"),
     ],
 )  # fmt: skip
 def test_bad_route_is_input_error(tmp_path, text, match):
@@ -108,7 +110,7 @@ def loop_result(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wear")
     route = _route(tmp, ROUTE)
     return wear_loop("wheelset", route, 3.0, tmp / "out", max_depth_m=1e-4, max_steps=2,
-                     rate_tolerance=None)  # fmt: skip
+                     rate_tolerance=None, workers=0)  # fmt: skip
 
 
 def test_loop_conserves_the_worn_volume(loop_result):
@@ -152,7 +154,7 @@ def test_cli_wear(tmp_path, capsys):
                    "speed: 20 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
     out = tmp_path / "out"
     code = main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out),
-                 "--step", "1 km"])  # fmt: skip
+                 "--step", "1 km", "--workers", "0"])  # fmt: skip
     assert code == 0
     assert (out / "figures" / "profiles.png").is_file()
     assert (out / "step_001" / "profiles" / "ws1_right.txt").is_file()
@@ -172,13 +174,15 @@ def test_step_size_study(tmp_path):
     route = _route(
         tmp_path,
         "format_version: 1\nname: c\nsections:\n  - {name: R200, share: 1, speed: 20 m/s, "
-        "length: 5 m, radius: 200 m, cant: 0 mm, directions: forward}\n",
+        "length: 8 m, radius: 200 m, cant: 0 mm, directions: forward}\n",
     )
     s = np.linspace(-0.065, 0.055, 2401)
     new = wheel_profile("S1002").height(s)
     depth = {}
     for d in (1e-4, 5e-5):
-        r = wear_loop("wheelset", route, 3.0, tmp_path / f"out{d}", max_depth_m=d, max_steps=40)
+        r = wear_loop(
+            "wheelset", route, 3.0, tmp_path / f"out{d}", max_depth_m=d, max_steps=40, workers=0
+        )
         assert r.complete
         last = r.steps[-1]
         p = wheel_profile(tmp_path / f"out{d}" / f"step_{last['step']:03d}" / "profiles"
@@ -189,30 +193,43 @@ def test_step_size_study(tmp_path):
     assert np.abs(depth[1e-4] - depth[5e-5]).max() < 0.05 * peak
 
 
+def _mark_diverged(monkeypatch, when):
+    """Cases run in this process (``workers=0``) whose run ``when(settings)`` selects end as
+    ``diverged`` (the run itself completes; only its status is changed)."""
+    import dataclasses
+
+    import railexu.results.run as run_module
+
+    real = run_module.run
+
+    def fake(vehicle, track, settings, *a, **k):
+        result = real(vehicle, track, settings, *a, **k)
+        if when(settings):
+            return dataclasses.replace(result, status={**result.status, "state": "diverged"})
+        return result
+
+    monkeypatch.setattr(run_module, "run", fake)
+
+
 def test_loop_stops_when_a_case_fails(tmp_path, monkeypatch):
-    """A case that does not complete (here one marked diverged) stops the loop before it
-    wears anything from it: wear.json says not complete and why."""
+    """A case that does not complete (here one marked diverged at every step down to 0.25 ms)
+    stops the loop before it wears anything from it: wear.json says not complete and why."""
     from railexu.study.wear import loop
 
-    real = loop._run_case
-
-    def fake(args):
-        out = real(args)
-        if args[2].direction == "reverse":
-            out["status"] = "diverged"
-        return out
-
-    monkeypatch.setattr(loop, "_run_case", fake)
+    _mark_diverged(monkeypatch, lambda settings: True)
     route = _route(
         tmp_path,
         "format_version: 1\nname: c\nsections:\n  - {name: R200, share: 1, speed: 15 m/s, "
-        "length: 5 m, radius: 200 m, cant: 0 mm}\n",
+        "length: 8 m, radius: 200 m, cant: 0 mm, directions: reverse}\n",
     )
-    r = loop.wear_loop("wheelset", route, 1.0, tmp_path / "out", rate_tolerance=None)
+    r = loop.wear_loop("wheelset", route, 1.0, tmp_path / "out", rate_tolerance=None, workers=0)
     assert not r.complete and "R200_reverse: diverged" in r.reason
     assert len(r.steps) == 1  # only the new profiles
     info = json.loads((tmp_path / "out" / "wear.json").read_text())
     assert info["complete"] is False and "diverged" in info["reason"]
+    # run again with 1, 0.5 and 0.25 ms (the study of the diverged cases alone), then given up
+    for name in ("route_dt1ms", "route_dt0p5ms", "route_dt0p25ms"):
+        assert (tmp_path / "out" / "step_000" / name / "results.csv").is_file()
 
 
 def test_worn_profile_curvature_bounded_and_flange_monotone(tmp_path):
@@ -247,27 +264,162 @@ def test_worn_profile_curvature_bounded_and_flange_monotone(tmp_path):
 
 def test_diverged_case_is_run_again_with_half_the_step(tmp_path, monkeypatch):
     """A case that diverges is run again with half the integration step (docs/wear.md: the
-    wagon on worn flange roots diverged with 2 ms and completed with 0.5 ms); the step used is
-    kept with the case. Here the run at the default 2 ms is marked diverged."""
-    import dataclasses
+    wagon on worn flange roots diverged with 2 ms and completed with 0.5 ms), as a study of the
+    diverged cases alone; the step used is kept with the case and in steps.csv. Here the runs
+    of the straight at the default 2 ms are marked diverged."""
+    from railexu.study import read_results
+    from railexu.study.wear.loop import wear_loop
 
-    import railexu.results.run as run_module
-    from railexu.study.wear import loop
-    from railexu.vehicle.vehicle import load_vehicle
+    _mark_diverged(monkeypatch, lambda s: s.time_step_s >= 2e-3 and s.speed_m_per_s > 19.0)
+    route = _route(tmp_path, ROUTE)
+    r = wear_loop("wheelset", route, 1.0, tmp_path / "out", workers=0, max_steps=1,
+                  rate_tolerance=None)  # fmt: skip
+    assert r.steps[1]["min_time_step_ms"] == pytest.approx(1.0)
+    step0 = tmp_path / "out" / "step_000"
+    first = read_results(step0 / "route" / "results.csv")
+    assert [row["status"] for row in first] == ["diverged", "completed", "completed"]
+    again = read_results(step0 / "route_dt1ms" / "results.csv")
+    assert len(again) == 1 and again[0]["status"] == "completed"
+    with np.load(step0 / "cases" / "straight_forward.npz") as data:
+        assert float(data["time_step_s"]) == pytest.approx(1e-3)
 
-    real = run_module.run
 
-    def fake(vehicle, track, settings, *a, **k):
-        result = real(vehicle, track, settings, *a, **k)
-        if settings.time_step_s >= 2e-3:
-            return dataclasses.replace(result, status={**result.status, "state": "diverged"})
-        return result
+def test_loop_runs_on_the_study_runner_and_resumes(tmp_path):
+    """The tiny loop (free wheelset, a straight and a curve run one way, 2 steps) runs each
+    step's cases as one study on 2 local worker processes (results.csv, cases/case_NNNN/); a
+    loop stopped after its first step (max_steps) says so, and run again it resumes: the
+    finished study is not run again (no case runs), only the second step's cases run, and the
+    profiles of the first step are the same to the byte. A case whose row is lost (a study
+    stopped mid-way) is the only one run again."""
+    from railexu.study import read_results
+    from railexu.study.wear.loop import wear_loop
 
-    monkeypatch.setattr(run_module, "run", fake)
-    route = load_route(_route(tmp_path, ROUTE))
-    case = route.cases[0]
-    track = case.write_track(route, tmp_path / "tracks")
-    out = loop._run_case(
-        (load_vehicle("wheelset"), str(track), case, "archard_jendel", 0.0, route.gauge_m)
+    route = _route(
+        tmp_path,
+        "format_version: 1\nname: tiny\nsections:\n"
+        "  - {name: s, share: 0.5, speed: 20 m/s, length: 5 m, directions: forward}\n"
+        "  - {name: R200, share: 0.5, speed: 15 m/s, length: 8 m, radius: 200 m, "
+        "directions: forward}\n",
     )
-    assert out["status"] == "completed" and out["time_step_s"] == pytest.approx(1e-3)
+    out = tmp_path / "out"
+    lines: list[str] = []
+    first = wear_loop("wheelset", route, 50.0, out, max_steps=1, rate_tolerance=None,
+                      workers=2, log=lines.append)  # fmt: skip
+    assert not first.complete and "max_steps" in first.reason
+    assert not json.loads((out / "wear.json").read_text())["complete"]
+    rows = read_results(out / "step_000" / "route" / "results.csv")
+    assert [r["status"] for r in rows] == ["completed", "completed"]
+    assert (out / "step_000" / "route" / "cases" / "case_0001" / "timeseries.csv").is_file()
+    profile = (out / "step_001" / "profiles" / "ws1_right.txt").read_bytes()
+    lines.clear()
+    second = wear_loop("wheelset", route, 50.0, out, max_steps=2, rate_tolerance=None,
+                       workers=2, log=lines.append)  # fmt: skip
+    ran = [line for line in lines if "case(s) run" in line]
+    assert len(ran) == 1 and ran[0].startswith("step_001: 2 case(s) run"), lines
+    assert (out / "step_001" / "profiles" / "ws1_right.txt").read_bytes() == profile
+    for key in ("mileage_km", "ws1_right_area_mm2", "ws1_conicity"):
+        assert second.steps[1][key] == first.steps[1][key]
+    assert len(second.steps) == 3
+    # a study stopped mid-way: the last row of step 1's results.csv lost
+    csv = out / "step_001" / "route" / "results.csv"
+    text = csv.read_text().splitlines(keepends=True)
+    csv.write_text("".join(text[:-1]))
+    lines.clear()
+    third = wear_loop("wheelset", route, 50.0, out, max_steps=2, rate_tolerance=None,
+                      workers=0, log=lines.append)  # fmt: skip
+    ran = [line for line in lines if "case(s) run" in line]
+    assert len(ran) == 1 and ran[0].startswith("step_001: 1 case(s) run (1 from before)"), lines
+    assert third.steps[-1]["mileage_km"] == pytest.approx(second.steps[-1]["mileage_km"])
+
+
+def test_trend_curvy_route_thins_the_flange(loop_result):
+    """Trend physics, curvy route (R 200 m both ways, 80 % of the mileage): the flange thins on
+    both wheels (Sd falls, EN 15313), its height Sh stays (the flange tip never touches), and the
+    largest depth lies at the flange root, between the tread's end of S1002's flange-root arc
+    and the 70 deg flank (s = -40 .. -25 mm from the tape circle), where the rigid contact of a
+    wheelset shifted to its flange lies (docs/wear.md, "The conicity trend")."""
+    new, last = loop_result.steps[0], loop_result.steps[-1]
+    out = loop_result.out
+    s = np.linspace(-0.065, 0.055, 2401)
+    p0 = wheel_profile("S1002").height(s)
+    for key in ("ws1_left", "ws1_right"):
+        assert last[f"{key}_flange_thickness_mm"] < new[f"{key}_flange_thickness_mm"] - 1e-3
+        assert last[f"{key}_flange_height_mm"] == pytest.approx(28.0, abs=1e-3)
+        p = wheel_profile(out / f"step_{last['step']:03d}" / "profiles" / f"{key}.txt")
+        depth = p0 - p.height(s)
+        assert -0.040 <= s[int(np.argmax(depth))] <= -0.025
+
+
+def test_trend_straight_track_hollows_the_tread(tmp_path):
+    """Trend physics, straight track: the wheels wear on the tread only, in the band the contact
+    of a centred or slightly shifted wheelset sweeps (|s| < 20 mm; nothing at the flange root,
+    s < -25 mm), and the equivalent conicity rises (EN 15302, 3 mm): the worn band lowers the
+    radius around the nominal rolling circle, so the radius difference grows faster with the
+    lateral shift (a hollow tread; docs/wear.md: 0.1845 -> 0.1874 over 50 000 km)."""
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 30 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
+    r = wear_loop("wheelset", route, 1e5, tmp_path / "out", max_depth_m=5e-5, max_steps=1,
+                  rate_tolerance=None, workers=0)  # fmt: skip
+    new, last = r.steps[0], r.steps[-1]
+    assert last["ws1_conicity"] > new["ws1_conicity"] + 1e-4
+    s = np.linspace(-0.065, 0.055, 2401)
+    p0 = wheel_profile("S1002").height(s)
+    p = wheel_profile(tmp_path / "out" / "step_001" / "profiles" / "ws1_left.txt")
+    depth = p0 - p.height(s)
+    assert depth.max() > 1e-5
+    assert depth[s < -0.025].max() < 0.01 * depth.max()
+    assert abs(s[int(np.argmax(depth))]) < 0.020
+    # the flange is not worn: Sd does not fall (it grows a little: tread wear at the tape
+    # circle lowers EN 15313's reference, so the Sd point 10 mm above it moves down the flank)
+    assert last["ws1_left_flange_thickness_mm"] >= 32.5 - 1e-4
+
+
+def test_loop_on_a_dask_cluster_gives_the_same_profiles(tmp_path):
+    """``scheduler``: a step's cases run as tasks of a Dask cluster (here a local one, one
+    worker process) and their files come back into the step's study folder; the worn profiles
+    are those of the same loop run in this process, to the byte."""
+    distributed = pytest.importorskip("distributed")
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 5 m, directions: forward}\n")  # fmt: skip
+    here = wear_loop("wheelset", route, 1e4, tmp_path / "here", max_steps=1, workers=0,
+                     rate_tolerance=None)  # fmt: skip
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        dask = wear_loop("wheelset", route, 1e4, tmp_path / "dask", max_steps=1,
+                         scheduler=cluster.scheduler_address, rate_tolerance=None)  # fmt: skip
+    assert dask.steps[1]["mileage_km"] == here.steps[1]["mileage_km"]
+    case = tmp_path / "dask" / "step_000" / "route" / "cases" / "case_0000"
+    assert (case / "timeseries.csv").is_file()
+    for key in ("ws1_left", "ws1_right"):
+        name = f"step_001/profiles/{key}.txt"
+        assert (tmp_path / "dask" / name).read_text().splitlines()[1:] == (
+            tmp_path / "here" / name
+        ).read_text().splitlines()[1:]
+
+
+def test_interrupted_loop_says_so_and_resumes(tmp_path):
+    """Ctrl-C (here raised from the progress log after the first study) leaves wear.json saying
+    the loop is not complete and was interrupted; the same loop run again resumes: the
+    finished study is not run again."""
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 5 m, directions: forward}\n")  # fmt: skip
+
+    def stop(line: str) -> None:
+        if "case(s) run" in line:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        wear_loop("wheelset", route, 1e4, tmp_path / "out", max_steps=1, workers=0, log=stop)
+    info = json.loads((tmp_path / "out" / "wear.json").read_text())
+    assert info["complete"] is False and info["reason"].startswith("interrupted at 0 km")
+    lines: list[str] = []
+    wear_loop("wheelset", route, 1e4, tmp_path / "out", max_steps=1, workers=0,
+              rate_tolerance=None, log=lines.append)  # fmt: skip
+    assert not [line for line in lines if "case(s) run" in line]

@@ -21,7 +21,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
             "no wheel loses more than --max-depth per step, update the profiles and repeat "
             "until --mileage. Writes OUT/steps.csv (Sh, Sd, qR, conicity, removed area per "
             "step), OUT/wear.json, OUT/step_NNN/profiles/*.txt (profiles railexu reads back), "
-            "OUT/step_NNN/cases/*.npz (a stopped loop resumes from them) and OUT/figures/. "
+            "OUT/step_NNN/route*/ (each step's cases as a study: railexu study's files; a stopped "
+            "loop resumes from them and OUT/step_NNN/cases/*.npz) and OUT/figures/. "
             "docs/wear.md."
         ),
     )
@@ -38,7 +39,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    help="fixed mileage per step instead of --max-depth")  # fmt: skip
     p.add_argument("--smoothing", type=quantity("m"), default=3e-3,
                    help="the depth's Gaussian smoothing, its sigma (default 3 mm)")  # fmt: skip
-    p.add_argument("--workers", type=int, default=1, help="local processes for the cases")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local worker processes for a step's cases (default: the number of "
+                   "CPUs; 0: run in this process), as railexu study")  # fmt: skip
+    p.add_argument("--scheduler",
+                   help="run a step's cases on a Dask cluster: scheduler address "
+                   "tcp://host:port (needs pip install railexu[dask]), as railexu "
+                   "study")  # fmt: skip
     p.add_argument("--max-steps", type=int, default=100, help="most steps (default 100)")
     p.add_argument("--no-plots", action="store_true", help="do not draw the figures")
     p.set_defaults(func=command)
@@ -46,12 +53,17 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def command(args: argparse.Namespace) -> int:
+    if args.scheduler is None and args.workers != 0:
+        # the study's local workers: their fork server preloads on another core meanwhile
+        from railexu.runtime import fork_server
+
+        fork_server.start()
     from railexu.report.wear_figures import wear_figures
     from railexu.study.wear.loop import _wheel_keys, wear_loop
     from railexu.vehicle.vehicle import load_vehicle
 
-    if args.workers < 1 or args.max_steps < 1:
-        raise CliError("--workers and --max-steps must be >= 1")
+    if (args.workers is not None and args.workers < 0) or args.max_steps < 1:
+        raise CliError("--workers must be >= 0 and --max-steps >= 1")
     vehicle = load_vehicle(args.vehicle)
     first = {}
     for key, i, side in _wheel_keys(vehicle):
@@ -61,7 +73,7 @@ def command(args: argparse.Namespace) -> int:
         vehicle, args.route, args.mileage / 1000.0, args.out, law=args.law,
         step_rule="fixed" if args.step else "max_depth", max_depth_m=args.max_depth,
         step_km=args.step / 1000.0 if args.step else None, smoothing_m=args.smoothing,
-        workers=args.workers, max_steps=args.max_steps,
+        workers=args.workers, max_steps=args.max_steps, scheduler=args.scheduler,
         log=lambda line: print(line, file=sys.stderr, flush=True),
     )  # fmt: skip
     if not args.no_plots:

@@ -110,12 +110,27 @@ def with_input_files(study: Study) -> Study:
     """``study`` with the digests of the files its cases read (vehicle, track, the profiles and
     measured files they name, file paths among the varied values) in its fingerprint, so that a
     change in any of them changes every case's hash."""
-    values = [v for p in study.parameters for v in p.values]
+    values = [v for p in study.parameters for v in p.values] + _set_values(study.set)
     digests = input_file_digests(study.vehicle, study.track, values, Path(study.source).parent)
     fingerprint = {k: v for k, v in study.fingerprint.items() if k != "digest"}
     fingerprint["input_files"] = _sha256(digests)
     fingerprint["digest"] = _sha256(fingerprint)
     return replace(study, fingerprint=fingerprint, input_files=digests)
+
+
+def _set_values(items) -> list:
+    """The values of the base ``set`` overrides (``key=value``), parsed as YAML: a file they
+    name (a worn wheel profile set by the wear loop, ``wheelsets.ws1.wheel_profile={left: a.txt,
+    right: b.txt}``) is read by every case, so its content belongs in the fingerprint too."""
+    import yaml
+
+    out = []
+    for item in items:
+        try:
+            out.append(yaml.safe_load(str(item).partition("=")[2]))
+        except yaml.YAMLError:
+            continue
+    return out
 
 
 def _set_aside_stale_results(out: Path, study: Study) -> None:

@@ -6,10 +6,11 @@ One step:
 1. every case of the route (a section in one direction, :mod:`.route`) is run with the current
    profiles (``contact_outputs`` on) and worn by the chosen law over its evaluation window
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
-   cases run on local worker processes (a study's: :mod:`railexu.study.worker`, forked from
-   the fork server of :mod:`railexu.runtime.fork_server`); a case that diverges is run again
-   with half the integration step down to :data:`MIN_TIME_STEP_S`; each case's result is kept in
-   ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from them;
+   the step's cases are one study run by :func:`railexu.study.run_study` (local worker
+   processes or a Dask distributed cluster, :mod:`.route_study`), resumable; a case that
+   diverges is run again with half the integration step down to :data:`MIN_TIME_STEP_S`;
+   each case's wear is kept in ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from
+   the studies and these files;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
 3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
@@ -31,14 +32,13 @@ The wheels wear, the rails do not (their wear per axle passage is reported per c
 from __future__ import annotations
 
 import dataclasses
-import hashlib
+import functools
 import json
 import math
 import os
-import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -57,19 +57,16 @@ from railexu.study.wear.profiles import (
     worn_profile,
 )
 from railexu.study.wear.route import Route, RouteCase, load_route
+from railexu.study.wear.route_study import MIN_TIME_STEP_S, profile_overrides, run_route_cases
 from railexu.vehicle.vehicle import Vehicle, load_vehicle
 
-__all__ = ["STEP_RULES", "WearLoopResult", "wear_loop"]
+__all__ = ["MIN_TIME_STEP_S", "STEP_RULES", "WearLoopResult", "wear_loop"]
 
 STEP_RULES = ("max_depth", "fixed")
 #: rule max_depth: the largest change of the route's peak wear rate accepted over a step
 RATE_TOLERANCE = 1.5
 #: the smallest step depth the rate control halves to is max_depth / MAX_HALVINGS
 MAX_HALVINGS = 64
-#: a case that diverges is run again with half the integration step, down to this step [s]
-#: (docs/wear.md, "Worn profiles that diverge": the contact sweeping across a worn flange root
-#: needs 0.5 ms where the new profiles run with railexu's 2 ms)
-MIN_TIME_STEP_S = 2.5e-4
 #: the conicity amplitude (EN 15302: y = 3 mm) [m]
 CONICITY_AMPLITUDE_M = 0.003
 _SIDES = ("left", "right")
@@ -113,100 +110,22 @@ def _with_profiles(vehicle: Vehicle, profiles: dict[str, str]) -> Vehicle:
     return dataclasses.replace(vehicle, wheelsets=type(vehicle.wheelsets)(wheelsets))
 
 
-def _run_case(args) -> dict:
-    """Run one case and wear it (in a worker process); returns arrays per wheel."""
-    vehicle, track_path, case, law, initial_lateral_m, gauge_m = args
-    from railexu.operation.run_settings import RunSettings
-    from railexu.results.run import run
-    from railexu.results.wear import WHEEL_GRID, run_wear
-    from railexu.track.track import load_track
+def _vehicle_and_file(vehicle: Vehicle | str | Path) -> tuple[Vehicle, Path]:
+    """The vehicle and the file a study's cases read it from (a vehicle object must be its
+    file's, unchanged: the study's workers read the file)."""
+    from railexu.inputs.catalog import find_input
 
-    track = load_track(track_path)
-    settings = RunSettings(
-        speed_m_per_s=case.speed_m_per_s, distance_m=case.distance_m,
-        initial_lateral_m=initial_lateral_m, contact_outputs=True,
-    )  # fmt: skip
-    t0 = time.perf_counter()
-    result = run(vehicle, track, settings)
-    # diverged: the same case with half the step (MIN_TIME_STEP_S at the least)
-    while result.status.get("state") == "diverged" and settings.time_step_s > MIN_TIME_STEP_S:
-        dt = max(MIN_TIME_STEP_S, 0.5 * settings.time_step_s)
-        settings = dataclasses.replace(
-            settings, time_step_s=dt, output_interval_s=settings.output_interval_s or 0.005
-        )
-        result = run(vehicle, track, settings)
-    wears = run_wear(
-        result.timeseries, vehicle, law, evaluate_from_m=case.evaluate_from_m, gauge_m=gauge_m
-    )
-    out: dict = {
-        "status": result.status.get("state", ""),
-        "wall_s": time.perf_counter() - t0,
-        "time_step_s": settings.time_step_s,
-        "grid": np.array(WHEEL_GRID),
-        "rail_grid": wears[0].rail_lateral_m,
-    }
-    for w in wears:
-        key = f"{w.wheelset}_{w.side}"
-        out[f"{key}_depth_per_km_m"] = w.depth_per_km_m
-        out[f"{key}_volume_rate_per_km_m2"] = np.array(w.volume_rate_per_km_m2)
-        out[f"{key}_rail_depth_per_axle_m"] = w.rail_depth_per_axle_m
-        out[f"{key}_summary"] = json.dumps(w.summary())
-    return out
-
-
-def _profile_stamp(profile: str) -> str:
-    """A profile's name, or its file's path and content digest (a step made again rewrites the
-    same file)."""
-    path = Path(profile)
-    if path.is_file():
-        return f"{path}:{hashlib.sha256(path.read_bytes()).hexdigest()}"
-    return str(profile)
-
-
-def _case_file(out: Path, step: int, case: RouteCase) -> Path:
-    return out / f"step_{step:03d}" / "cases" / f"{case.name}_{case.direction}.npz"
-
-
-def _run_cases(vehicle, route, out, step, law, workers, initial_lateral_m, log) -> dict:
-    """Every case's result of ``step``: read from its file if a previous (stopped) loop wrote
-    it with the same profiles, else run (on ``workers`` local processes)."""
-    tracks = out / "tracks"
-    todo, results = [], {}
-    stamp = json.dumps([_profile_stamp(ws.wheel_profile) for ws in vehicle.wheelsets]
-                       + [_profile_stamp(ws.profile_right) for ws in vehicle.wheelsets]
-                       + [law, initial_lateral_m])  # fmt: skip
-    for case in route.cases:
-        path = _case_file(out, step, case)
-        if path.is_file():
-            with np.load(path, allow_pickle=False) as data:
-                if str(data["stamp"]) == stamp:
-                    results[case] = {k: data[k] for k in data.files}
-                    continue
-        track = str(case.write_track(route, tracks))
-        todo.append((vehicle, track, case, law, initial_lateral_m, route.gauge_m))
-    if todo:
-        log(f"step {step}: running {len(todo)} case(s) on {min(workers, len(todo))} process(es)")
-    if workers > 1 and len(todo) > 1:
-        # the study's worker processes: forked from the fork server (never from this process,
-        # which may hold OpenMP threads), contacts on one thread, ending with this process
-        from railexu.runtime.fork_server import pool_context
-        from railexu.study.worker import _worker_init
-
-        n = min(workers, len(todo))
-        with ProcessPoolExecutor(n, mp_context=pool_context(), initializer=_worker_init,
-                                 initargs=(os.getpid(),)) as pool:  # fmt: skip
-            done = list(pool.map(_run_case, todo))
-    else:
-        done = [_run_case(t) for t in todo]
-    for args, res in zip(todo, done, strict=True):
-        case = args[2]
-        path = _case_file(out, step, case)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.stem}.tmp.npz")
-        np.savez(tmp, stamp=np.array(stamp), **{k: np.asarray(v) for k, v in res.items()})
-        tmp.replace(path)
-        results[case] = res
-    return results
+    if isinstance(vehicle, str | Path):
+        path = find_input("vehicle", vehicle).resolve()
+        return load_vehicle(path), path
+    path = Path(vehicle.source)
+    if not path.is_file() or load_vehicle(path).raw != vehicle.raw:
+        raise InputError(
+            "the wear loop runs its cases as a study, whose workers read the vehicle file: give "
+            "the vehicle file (or a vehicle loaded from it unchanged)",
+            source=str(vehicle.source), key="vehicle",
+        )  # fmt: skip
+    return vehicle, path.resolve()
 
 
 def _conicity(vehicle: Vehicle, track) -> dict:
@@ -227,6 +146,21 @@ def _straight_track(route: Route, out: Path):
     return load_track(case.write_track(route, out / "tracks"))
 
 
+def _sigterm_as_interrupt(func):
+    """SIGTERM raises :class:`~railexu.errors.RunTerminated` (a ``KeyboardInterrupt``) while
+    the loop runs, as in :func:`railexu.study.run_study`: the loop writes that it was
+    interrupted and stops cleanly instead of being killed between two studies."""
+    from railexu.study.runner import _sigterm_raises
+
+    @functools.wraps(func)
+    def wrapper(*args, **kwargs):
+        with _sigterm_raises():
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
+@_sigterm_as_interrupt
 def wear_loop(
     vehicle: Vehicle | str | Path,
     route: Route | str | Path,
@@ -237,11 +171,12 @@ def wear_loop(
     max_depth_m: float = 1.0e-4,
     step_km: float | None = None,
     smoothing_m: float = 3.0e-3,
-    workers: int = 1,
+    workers: int | None = None,
     max_steps: int = 100,
     initial_lateral_m: float = 0.0,
     rate_tolerance: float | None = RATE_TOLERANCE,
     log=None,
+    scheduler: Any = None,
 ) -> WearLoopResult:
     """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
 
@@ -255,7 +190,10 @@ def wear_loop(
         smoothing_m: standard deviation of the Gaussian smoothing of the depth [m]; 3 mm by
             default (with 1 mm the wagon's curve cases diverged on the first worn profiles,
             docs/wear.md).
-        workers: local processes for the cases of a step.
+        workers: local worker processes for the cases of a step (as
+            :func:`railexu.study.run_study`: default the number of CPUs, 0 in this process).
+        scheduler: a Dask scheduler address (``tcp://host:port``) or a ``distributed.Client``:
+            the cases run on that cluster (:func:`railexu.study.run_study`).
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
             A case that does not complete (derailed, diverged) also stops the loop, with the
             profiles so far and the reason in ``wear.json``.
@@ -281,8 +219,7 @@ def wear_loop(
         raise InputError(f"{step_km!r}: expected a step > 0 km", key="step_km")
     if not (0.0 <= smoothing_m <= 0.01):
         raise InputError(f"{smoothing_m!r} m: expected 0 .. 10 mm", key="smoothing")
-    if isinstance(vehicle, str | Path):
-        vehicle = load_vehicle(vehicle)
+    vehicle, vehicle_file = _vehicle_and_file(vehicle)
     if isinstance(route, str | Path):
         route = load_route(route)
     out = Path(out)
@@ -315,8 +252,16 @@ def wear_loop(
         if step >= max_steps and not reached:
             reason = f"stopped after max_steps = {max_steps} steps at {mileage:.4g} km"
             break
-        rates = _route_rates(vehicle, profiles, route, out, step, law, workers,
-                             initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+        try:
+            rates = _route_rates(vehicle, vehicle_file, profiles, route,
+                                 out / f"step_{step:03d}", law, workers, scheduler,
+                                 initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+        except KeyboardInterrupt:  # Ctrl-C, SIGTERM: the finished cases and steps are kept
+            result.reason = (f"interrupted at {mileage:.6g} km (profiles of step {step}); run "
+                             "the same loop again to resume")  # fmt: skip
+            _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
+                         False, result.reason)  # fmt: skip
+            raise
         if rates["bad"]:
             # a case that derailed, diverged or was stopped wears over part of its window only:
             # the loop stops here with the profiles so far and says why
@@ -395,14 +340,18 @@ def wear_loop(
     return result
 
 
-def _route_rates(vehicle, profiles, route, out, step, law, workers, initial_lateral_m, keys,
-                 smoothing_m, log) -> dict:  # fmt: skip
+def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
+                 initial_lateral_m, keys, smoothing_m, log) -> dict:  # fmt: skip
     """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
     volume rate per km, the largest depth per km and the cases that did not complete."""
     veh = _with_profiles(vehicle, profiles)
-    cases = _run_cases(veh, route, out, step, law, workers, initial_lateral_m, log)
+    items = profile_overrides(vehicle, wheelset_order(vehicle), profiles)
+    cases = run_route_cases(veh, vehicle_file, items, route, step_dir, law, initial_lateral_m,
+                            workers, scheduler, log)  # fmt: skip
     bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
            if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
+    if bad:
+        return {"bad": bad}
     steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
     grid = np.asarray(next(iter(cases.values()))["grid"])
     depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())

@@ -192,6 +192,12 @@ def _section_cases(sec, i: int, src: str, lines) -> list[RouteCase]:
     length = get("length", "m", 5.0, 10_000.0)
     radius = get("radius", "m", 100.0, 100_000.0, default=0.0) or None
     cant = get("cant", "m", 0.0, 0.2, default=0.0)
+    if radius is not None and not length > SETTLE_M:
+        raise InputError(
+            f"{sec['length']!r}: a curve must be longer than the {SETTLE_M:g} m of settling "
+            "before its evaluation window",
+            source=src, line=lines.get((*here, "length")), key=f"sections[{i}].length",
+        )  # fmt: skip
     if cant and radius is None:
         raise InputError("cant needs a radius (a curve)", source=src,
                          line=lines.get((*here, "cant")), key=f"sections[{i}].cant")  # fmt: skip

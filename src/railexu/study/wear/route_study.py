@@ -1,0 +1,222 @@
+"""One wear step's route run as a study (docs/wear.md, "One step").
+
+The cases of a route (:mod:`.route`) with the current wheel profiles become one study
+(docs/study-format.md) run by :func:`railexu.study.run_study`: on local worker processes or a
+Dask distributed cluster, resumable (a case in the study's ``results.csv`` with the same hash is
+not run again; a worn profile file whose content changed changes every hash), its folder
+complete or saying it is not (the study's own contract). The study has one base track (the
+route's first case) and varies, zipped, the track's ``geometry.sections``, ``run.speed``,
+``run.distance`` and ``run.evaluate_from``; the worn profiles are base overrides of the vehicle
+(``wheelsets.<name>.wheel_profile={left: file, right: file}``), the run records the contact
+points (``contact_outputs: true``).
+
+A case that diverges is run again with half the integration step, down to
+:data:`MIN_TIME_STEP_S`, as a study of the diverged cases alone in the folder of that step
+(``route_dt1ms``, ...). Each case's wear (:func:`railexu.results.wear.run_wear` of its recorded
+``timeseries.csv``, in this process) is kept in ``cases/<section>_<direction>.npz`` with the
+case's hash, the law and the coefficient file's digest, so that a resumed loop does not compute
+it again.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import shutil
+import time
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from railexu.study.wear.route import Route, RouteCase
+from railexu.vehicle.vehicle import Vehicle
+
+__all__ = ["MIN_TIME_STEP_S", "route_study_data", "run_route_cases"]
+
+#: a case that diverges is run again with half the integration step, down to this step [s]
+#: (docs/wear.md, "Worn profiles that diverge": the contact sweeping across a worn flange root
+#: needed 0.5 ms where the new profiles run with railexu's 2 ms)
+MIN_TIME_STEP_S = 2.5e-4
+#: statuses whose case wore over its whole window
+_DONE = ("completed", "completed_with_exceedances")
+
+
+def _dt_name(dt_s: float) -> str:
+    return f"route_dt{dt_s * 1e3:g}ms".replace(".", "p")
+
+
+def profile_overrides(vehicle: Vehicle, order: list[int], profiles: dict[str, str]) -> list[str]:
+    """Base ``set`` items of the study: each wheelset's worn profile files (absolute paths),
+    ``vehicle.wheelsets.<name>.wheel_profile={left: ..., right: ...}``; none for a wheel that
+    still has its vehicle file's profile."""
+    items = []
+    for k, i in enumerate(order, start=1):
+        ws = vehicle.wheelsets[i]
+        left, right = profiles[f"ws{k}_left"], profiles[f"ws{k}_right"]
+        if left == ws.wheel_profile and right == ws.profile_right:
+            continue
+        value = yaml.safe_dump({"left": left, "right": right}, default_flow_style=True,
+                               width=10**9).strip()  # fmt: skip
+        items.append(f"vehicle.wheelsets.{ws.name}.wheel_profile={value}")
+    return items
+
+
+def route_study_data(
+    route: Route,
+    cases: list[RouteCase],
+    vehicle_file: Path,
+    set_items: list[str],
+    run: dict[str, str],
+    name: str,
+) -> tuple[dict, dict]:
+    """``(track, study)`` mappings of the study of ``cases`` (module doc); ``run`` adds base
+    run settings (time step, initial lateral offset)."""
+    tracks = [c.track_data(route) for c in cases]
+    params: dict[str, list[Any]] = {
+        "track.geometry.sections": [t["geometry"]["sections"] for t in tracks],
+        "run.speed": [f"{c.speed_m_per_s:.12g} m/s" for c in cases],
+        "run.distance": [f"{c.distance_m:.12g} m" for c in cases],
+        "run.evaluate_from": [f"{c.evaluate_from_m:.12g} m" for c in cases],
+    }
+    base: dict[str, Any] = {
+        "vehicle": str(vehicle_file),
+        "track": "track.yaml",
+        "run": {"contact_outputs": True, **run},
+    }
+    if set_items:
+        base["set"] = list(set_items)
+    study = {
+        "format_version": 1,
+        "name": name,
+        "description": "the route's cases of one wear step (railexu wear, docs/wear.md): "
+        + ", ".join(f"{c.name} {c.direction}" for c in cases),
+        "analysis": "run",
+        "base": base,
+        "vary": {"combine": "zip", "parameters": params},
+        "collect": ["max_Y_over_Q.value", "max_abs_lateral_force_N"],
+    }
+    return tracks[0], study
+
+
+def _write_study(folder: Path, track: dict, study: dict) -> Path:
+    """Write ``track.yaml`` and ``study.yaml``; a folder holding another study's files (another
+    set of cases) is emptied first (its results belong to other cases). Returns the study
+    file."""
+    texts = {n: yaml.safe_dump(d, sort_keys=False, allow_unicode=True)
+             for n, d in (("track.yaml", track), ("study.yaml", study))}  # fmt: skip
+    old = folder / "study.yaml"
+    if old.is_file() and old.read_text(encoding="utf-8") != texts["study.yaml"]:
+        shutil.rmtree(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    for n, text in texts.items():
+        path = folder / n
+        if not path.is_file() or path.read_text(encoding="utf-8") != text:
+            tmp = path.with_name(f".{n}.tmp")
+            tmp.write_text(text, encoding="utf-8")
+            tmp.replace(path)
+    return folder / "study.yaml"
+
+
+def run_route_cases(
+    vehicle: Vehicle,
+    vehicle_file: Path,
+    set_items: list[str],
+    route: Route,
+    step_dir: Path,
+    law: str,
+    initial_lateral_m: float,
+    workers: int | None,
+    scheduler: Any,
+    log,
+) -> dict[RouteCase, dict]:
+    """Every case's result of one step (module doc): status, the time step it completed with,
+    and per wheel the depth per km, the volume rate per km, the rail's depth per axle and the
+    summary of :func:`~railexu.results.wear.run_wear`."""
+    from railexu.operation.run_settings import RunSettings
+    from railexu.study import StudyWarning, load_study, run_study
+
+    dt = RunSettings().time_step_s
+    todo = list(route.cases)
+    final: dict[RouteCase, tuple[Path, dict, float]] = {}
+    first = True
+    while todo:
+        folder = step_dir / ("route" if first else _dt_name(dt))
+        run = {"initial_lateral": f"{initial_lateral_m:.12g} m"}
+        if not first:
+            run["time_step"] = f"{dt:.12g} s"
+        title = f"{route.name}: wear step {step_dir.name}" + ("" if first else f", {dt * 1e3:g} ms")
+        track, data = route_study_data(route, todo, vehicle_file, set_items, run, title)
+        study = load_study(_write_study(folder, track, data))
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", StudyWarning)
+            done = run_study(study, folder, workers=workers, scheduler=scheduler)
+        for w in caught:
+            log(f"{step_dir.name}: {w.message}")
+        if done.ran:
+            log(f"{step_dir.name}: {done.ran} case(s) run ({done.skipped} from before) in "
+                f"{time.perf_counter() - t0:.1f} s, {folder.name}")  # fmt: skip
+        rows = {r["case_id"]: r for r in done.rows}
+        diverged = []
+        for case, c in zip(todo, study.cases(), strict=True):
+            row = rows[c.case_id]
+            final[case] = (folder / "cases" / c.case_id, row, dt)
+            if row["status"] == "diverged":
+                diverged.append(case)
+        first = False
+        if not diverged or dt <= MIN_TIME_STEP_S * (1 + 1e-9):
+            break
+        dt = max(MIN_TIME_STEP_S, 0.5 * dt)
+        todo = diverged
+        log(f"{step_dir.name}: {len(diverged)} case(s) diverged, run again with {dt * 1e3:g} ms")
+    return {
+        case: _case_wear(vehicle, route, case, *final[case], law, step_dir) for case in route.cases
+    }
+
+
+def _case_file(step_dir: Path, case: RouteCase) -> Path:
+    return step_dir / "cases" / f"{case.name}_{case.direction}.npz"
+
+
+def _case_wear(vehicle, route, case, case_dir: Path, row: dict, dt: float, law: str,
+               step_dir: Path) -> dict:  # fmt: skip
+    """The wear of one finished case, from its ``.npz`` when it was computed for the same case
+    hash, law and coefficient file, else from its ``timeseries.csv``."""
+    from railexu.contact.wear.coefficients import COEFFICIENTS_FILE
+    from railexu.results.wear import WHEEL_GRID, run_wear
+    from railexu.simulation.timeseries import TimeSeries
+
+    status = row["status"]
+    coefficients = hashlib.sha256(COEFFICIENTS_FILE.read_bytes()).hexdigest()
+    stamp = json.dumps([row["case_hash"], status, law, coefficients, str(case_dir)])
+    path = _case_file(step_dir, case)
+    if path.is_file():
+        with np.load(path, allow_pickle=False) as data:
+            if str(data["stamp"]) == stamp:
+                return {k: data[k] for k in data.files}
+    out: dict[str, Any] = {
+        "status": status if status != "failed" else f"failed ({row.get('error', '')})",
+        "wall_s": float(row["run_time_s"] or math.nan),
+        "time_step_s": dt,
+        "grid": np.array(WHEEL_GRID),
+    }
+    ts_file = case_dir / "timeseries.csv"
+    if status in _DONE:  # a case that did not complete stops the loop: nothing to wear
+        wears = run_wear(TimeSeries.from_csv(ts_file), vehicle, law,
+                         evaluate_from_m=case.evaluate_from_m, gauge_m=route.gauge_m)  # fmt: skip
+        out["rail_grid"] = wears[0].rail_lateral_m
+        for w in wears:
+            key = f"{w.wheelset}_{w.side}"
+            out[f"{key}_depth_per_km_m"] = w.depth_per_km_m
+            out[f"{key}_volume_rate_per_km_m2"] = np.array(w.volume_rate_per_km_m2)
+            out[f"{key}_rail_depth_per_axle_m"] = w.rail_depth_per_axle_m
+            out[f"{key}_summary"] = json.dumps(w.summary())
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.tmp.npz")
+    np.savez(tmp, stamp=np.array(stamp), **{k: np.asarray(v) for k, v in out.items()})
+    tmp.replace(path)
+    return out
