@@ -44,7 +44,10 @@ def add_parser(sub) -> None:
         help="linear contact: cones of the equivalent conicity, or the profiles' tangent",
     )
     p.add_argument(
-        "--deceleration", type=quantity("m/s^2"), default=0.5, help="ramp deceleration [m/s^2]"
+        "--deceleration",
+        type=quantity("m/s^2"),
+        default=0.2,
+        help="ramp deceleration [m/s^2] (a second ramp at twice it checks rate independence)",
     )
     p.add_argument("--ramp-settle", type=quantity("m"), default=200.0,
                    help="ramp: distance at the highest speed before the ramp [m]")  # fmt: skip
@@ -163,6 +166,27 @@ def _method_status(method: str, section: dict) -> list[str]:
         found = f"{v:.2f} m/s" if v is not None else r.get("note", "not found")
         lines.append(f"    ramp at {r['deceleration_m_per_s2']:g} m/s^2 over {r['distance_m']:.0f} "
                      f"m: {found} ({r['status']})")  # fmt: skip
+    fold = section.get("fold")
+    if fold:
+        lo, hi = fold["bracket_m_per_s"]
+        amp = fold.get("amplitude_m")
+        lines.append(
+            f"  fold of the branch followed from the top: between {lo:.2f} and "
+            f"{hi:.2f} m/s" + (f" ({amp * 1e3:.2f} mm at {hi:.2f} m/s)" if amp else "")
+        )
+    if method == "branch" and section.get("critical_amplitude_m"):
+        lines.append(
+            f"  lowest sustained cycle: {section['critical_amplitude_m'] * 1e3:.2f} mm "
+            f"at {section['critical_speed_m_per_s']:.2f} m/s"
+        )
+    if method == "ramp" and section.get("fold_m_per_s"):
+        lines.append(
+            f"  the cycle followed from the plateau ends at {section['fold_m_per_s']:.2f} m/s"
+        )
+    if method == "ramp" and section.get("drift_per_period") is not None:
+        lines.append(
+            f"  branch drift on the ramp: {section['drift_per_period']:.2%} per period (band 1 %)"
+        )
     if section.get("warning"):
         lines.append(f"  warning: {section['warning']}")
     if "rate_independent" in section:

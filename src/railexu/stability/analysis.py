@@ -25,8 +25,10 @@ def critical_speed(
     """Critical speed of ``vehicle`` by the chosen methods; returns the content of
     ``critical_speed.json``: ``linear_m_per_s``, ``nonlinear_bisection_m_per_s``,
     ``nonlinear_ramp_m_per_s`` (None where a method was not run or found no crossing in the
-    range), ``nonlinear_branch_m_per_s`` (the lowest speed of the limit-cycle branch), one
-    section per method with its details, and the settings used."""
+    range), ``nonlinear_branch_m_per_s`` (the lowest speed with a sustained cycle),
+    ``nonlinear_branch_fold_m_per_s`` and ``nonlinear_branch_fold_bracket_m_per_s`` (where the
+    branch followed from the top speed ends: its fold), one section per method with its
+    details, and the settings used."""
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     out: dict = {
@@ -51,6 +53,9 @@ def critical_speed(
     if "branch" in settings.methods:
         out["branch"] = branch_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_branch_m_per_s"] = out["branch"]["critical_speed_m_per_s"]
+        fold = out["branch"].get("fold") or {}
+        out["nonlinear_branch_fold_m_per_s"] = fold.get("speed_m_per_s")
+        out["nonlinear_branch_fold_bracket_m_per_s"] = fold.get("bracket_m_per_s")
     out["comparison"] = compare_linear_nonlinear(out, settings)
     return out
 

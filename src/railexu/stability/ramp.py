@@ -12,11 +12,24 @@ the speed at the end of the last window that is not stable (a limit cycle of at 
 limit cycle vanishes for good. Its resolution is the speed lost over one window
 (deceleration x window length).
 
-A ramp that is too fast lags behind the branch (the cycle decays slowly near its fold): the
-method runs the ramp at ``ramp_deceleration`` and at :data:`SLOWER` times it, reports the slower
-ramp's speed, both speeds and whether they agree within the sum of their resolutions
-(``rate_independent``). Every ramp has a distance budget (``ramp_budget``): a ramp that would
-run further is cut at its budget and says so (``budget exhausted``), it never runs on."""
+A ramp that is too fast lags behind the branch: on a ramp the cycle's amplitude follows the
+branch, which shrinks as speed falls, and a window is "sustained" only while that drift is below
+the classification's 1 % per period. The drift per period is ``(d ln A / dV) a / f`` (A the
+amplitude, f the frequency, a the deceleration), so the default deceleration
+(:data:`DEFAULT_DECELERATION_M_PER_S2`, 0.2 m/s^2) follows from the rule ``a <= 0.01 f / (d ln
+A / dV)`` with f >= 3 Hz and a branch slope d ln A / dV up to 0.15 per m/s (the EU07 bogie's
+large cycle, docs/validation.md): the speed lost over one window of 16 periods is then at most
+16 a / f = 1.07 m/s. Each ramp measures its own branch slope from its windows and reports the
+drift per period (``drift_per_period``, ``drift_within_band``) with the largest deceleration
+that keeps it in the band (``max_deceleration_m_per_s2``).
+
+The method runs the ramp at ``ramp_deceleration`` and, to show the result rate-independent, at
+:data:`FASTER` times it; it reports the slower (requested) ramp's speed, both speeds and whether
+they agree within the sum of their resolutions (``rate_independent``). Each ramp also reports
+where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the last window
+on that branch, :func:`~railexu.stability.nonlinear.same_branch`). Every ramp has a distance
+budget (``ramp_budget``): a ramp that would run further is cut at its budget and says so
+(``budget exhausted``), it never runs on."""
 
 from __future__ import annotations
 
@@ -27,7 +40,7 @@ import numpy as np
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.results.run import RunSettings, run
 from railexu.simulation.simulate import COMPLETED_STATES
-from railexu.stability.nonlinear import _judgement, classify_window
+from railexu.stability.nonlinear import JUMP_FRACTION, _judgement, classify_window, same_branch
 from railexu.stability.settings import CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -36,8 +49,13 @@ from railexu.vehicle.vehicle import Vehicle
 #: error on steady sines sampled at 100 Hz: +-1.6 % per period over 8 periods, depending on the
 #: phase, 0.3 % over 16; the classification's tolerance is 1 % per period).
 WINDOW_PERIODS = 16.0
-#: The second ramp's deceleration as a fraction of the first's.
-SLOWER = 0.5
+#: The second ramp's deceleration as a multiple of the first's (the check of rate
+#: independence).
+FASTER = 2.0
+#: The default deceleration [m/s^2] (module docstring: the 1 % per period drift rule).
+DEFAULT_DECELERATION_M_PER_S2 = 0.2
+#: The largest drift of the branch's amplitude per period within the classification's band.
+MAX_DRIFT_PER_PERIOD = 0.01
 #: Window length when the plateau shows no oscillation to measure a frequency on [s].
 DEFAULT_WINDOW_S = 2.0
 
@@ -84,6 +102,7 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
         end = int(np.nonzero(sel)[0][-1])
         out["windows"].append({"speed_m_per_s": float(speed[end]), **c})
         t0 += 0.5 * window
+    out.update(_drift(out["windows"], plateau, a))
     unstable = [k for k, w in enumerate(out["windows"]) if not w["stable"]]
     if plateau["stable"] and not unstable:
         out["note"] = "no hunting at the start speed"
@@ -94,6 +113,66 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
     else:
         out["note"] = "the cycle vanished before the ramp's first window"
         out["critical_speed_m_per_s"] = float(speed[np.searchsorted(t, t_settle)])
+    return out
+
+
+def _followed(windows: list[dict], plateau: dict) -> list[dict]:
+    """The windows on the branch followed from the settling plateau, in order, up to the first
+    that leaves it (:func:`~railexu.stability.nonlinear.same_branch`)."""
+    on, above = [], plateau
+    for w in windows:
+        if not same_branch(above, w):
+            break
+        on.append(w)
+        above = w
+    return on
+
+
+def _continuous(windows: list[dict], plateau: dict) -> list[dict]:
+    """The windows whose amplitude continues the plateau's (no drop below
+    :data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the window before, an oscillation
+    fitted), whatever their classification: a ramp too fast for the branch calls its windows
+    decaying, and their amplitudes still show the branch's slope."""
+    out, above = [], plateau.get("amplitude_m")
+    for w in windows:
+        amp = w.get("amplitude_m")
+        if not amp or not w.get("frequency_Hz") or not above or amp < JUMP_FRACTION * above:
+            break
+        if w.get("classification") in ("below floor", "broad-band", "large broad-band"):
+            break
+        out.append(w)
+        above = amp
+    return out
+
+
+def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
+    """``fold_m_per_s`` (the end speed of the last window on the branch followed from the
+    plateau; None when it holds to the end or there is none) and, from the fitted amplitudes of
+    the windows that continue the plateau's amplitude (:func:`_continuous`) against their
+    speeds (the median of the slopes between neighbouring windows),
+    ``branch_slope_per_m_per_s`` (d ln A / dV),
+    ``drift_per_period`` (the slope x a / f: the relative change of the branch's amplitude per
+    period on this ramp), ``drift_within_band`` (at most
+    :data:`MAX_DRIFT_PER_PERIOD`) and ``max_deceleration_m_per_s2`` (the rate that keeps it
+    there)."""
+    on = _followed(windows, plateau) if plateau.get("stable") is False else []
+    out: dict = {"fold_m_per_s": None, "drift_per_period": None}
+    if on and len(on) < len(windows):
+        out["fold_m_per_s"] = on[-1]["speed_m_per_s"]
+    pts = [(w["speed_m_per_s"], w["amplitude_m"], w.get("frequency_Hz"))
+           for w in _continuous(windows, plateau)]  # fmt: skip
+    if len(pts) < 2 or pts[0][0] - pts[-1][0] <= 0.0:
+        return out
+    v, amp, f = (np.array(c, dtype=float) for c in zip(*pts, strict=True))
+    # the median of the window-to-window slopes: the branch's slope, not the steep fall of the
+    # one or two windows that overlap a fold
+    slope = float(np.median(np.diff(np.log(amp)) / np.diff(v)))
+    f_mean = float(np.mean(f))
+    drift = abs(slope) * a / f_mean
+    out.update(branch_slope_per_m_per_s=slope, drift_per_period=drift,
+               drift_within_band=drift <= MAX_DRIFT_PER_PERIOD,
+               max_deceleration_m_per_s2=(MAX_DRIFT_PER_PERIOD * f_mean / abs(slope)
+                                          if slope else None))  # fmt: skip
     return out
 
 
@@ -142,7 +221,9 @@ def ramp_critical_speed(
 ) -> dict:
     """Nonlinear critical speed by the ramp method at two rates (module docstring).
 
-    Returns ``critical_speed_m_per_s`` (the slower ramp's), ``resolution_m_per_s``,
+    Returns ``critical_speed_m_per_s`` (the slower, requested ramp's), ``resolution_m_per_s``,
+    ``fold_m_per_s`` (where the cycle followed from the plateau ends), ``drift_per_period``,
+    ``drift_within_band``, ``max_deceleration_m_per_s2``,
     ``rate_independent`` (the two ramps agree within the sum of their resolutions),
     ``rate_difference_m_per_s``, ``status`` (``converged``, ``budget exhausted``, ``run stopped``
     or ``not found``), ``ramps`` (both, each with its windows), ``speeds_m_per_s`` and
@@ -151,7 +232,7 @@ def ramp_critical_speed(
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     ramps = []
-    for a in (settings.ramp_deceleration_m_per_s2, SLOWER * settings.ramp_deceleration_m_per_s2):
+    for a in (settings.ramp_deceleration_m_per_s2, FASTER * settings.ramp_deceleration_m_per_s2):
         if progress:
             progress(f"ramp: {settings.speed_max_m_per_s:g} -> {settings.speed_min_m_per_s:g} "
                      f"m/s at {a:g} m/s^2 (budget {settings.ramp_budget_m:g} m)")  # fmt: skip
@@ -162,7 +243,7 @@ def ramp_critical_speed(
             progress(f"ramp at {a:g} m/s^2: {r['status']}, " + (
                 f"cycle vanishes at {v:.2f} m/s (+-{r['resolution_m_per_s']:.2f})" if v else
                 r.get("note", "")))  # fmt: skip
-    fast, slow = ramps
+    slow, fast = ramps
     out = {
         "critical_speed_m_per_s": slow.get("critical_speed_m_per_s"),
         "resolution_m_per_s": slow.get("resolution_m_per_s"),
@@ -170,7 +251,11 @@ def ramp_critical_speed(
         "ramps": ramps,
         "speeds_m_per_s": [w["speed_m_per_s"] for w in slow.get("windows", [])],
         "amplitude_m": [w.get("amplitude_m") or 0.0 for w in slow.get("windows", [])],
-        "deceleration_m_per_s2": [fast["deceleration_m_per_s2"], slow["deceleration_m_per_s2"]],
+        "deceleration_m_per_s2": [slow["deceleration_m_per_s2"], fast["deceleration_m_per_s2"]],
+        "fold_m_per_s": slow.get("fold_m_per_s"),
+        "drift_per_period": slow.get("drift_per_period"),
+        "drift_within_band": slow.get("drift_within_band"),
+        "max_deceleration_m_per_s2": slow.get("max_deceleration_m_per_s2"),
         "threshold_m": settings.threshold_m,
         "disturbance": f"initial lateral offset {settings.initial_lateral_m * 1e3:g} mm, "
         f"{settings.ramp_settle_m:g} m at {settings.speed_max_m_per_s:g} m/s before the ramp",
@@ -193,4 +278,9 @@ def ramp_critical_speed(
                            "ramps are needed")  # fmt: skip
     if slow.get("note") == "still hunting at the end of the ramp":
         out["unstable_in_range"] = True
+    if slow.get("drift_within_band") is False:
+        words = (f"at {slow['deceleration_m_per_s2']:g} m/s^2 the branch's amplitude drifts by "
+                 f"{slow['drift_per_period']:.1%} per period (more than the 1 % band): use at "
+                 f"most {slow['max_deceleration_m_per_s2']:.2g} m/s^2")  # fmt: skip
+        out["note"] = f"{out['note']}; {words}" if out.get("note") else words
     return out
