@@ -240,7 +240,7 @@ def _branch(
 
 BRANCH_RULE = (
     "a plateau is on the branch of the plateau above it when it is not stable (growing or "
-    "sustained) and its fitted amplitude is at least 1/3 of the amplitude above (railexu's "
+    "sustained) and its fitted amplitude is at least half the amplitude above (railexu's "
     "assumption: a larger drop within one speed step is a jump to another branch at a fold); "
     "the fold of the branch followed from the top speed is bracketed between its lowest plateau "
     "and the next one below"
@@ -248,15 +248,19 @@ BRANCH_RULE = (
 
 
 def label_branches(found: list[dict]) -> None:
-    """Numbers the branches down one stage (``p["branch"]``): 0 from the top plateau, one more
-    at every jump (:func:`_same_branch`) onto another cycle; stable plateaus get None."""
+    """Numbers the branches down one stage (``p["branch"]``): 0 from the top plateau down to
+    its first jump (:func:`~railexu.stability.nonlinear.same_branch`: the fold), then one more
+    after that jump and after every stable plateau; stable plateaus get None. Below the fold a
+    drop is not split further: the fold reported is that of the branch followed from the top."""
     k, above = -1, None
     for p in found:
         if p.get("stable") is not False:
             p["branch"], above = None, p
             continue
-        if above is None or not same_branch(above, p):
+        if above is None or above.get("stable") is not False:
             k += 1
+        elif k == 0 and not same_branch(above, p):
+            k = 1
         p["branch"], above = k, p
 
 

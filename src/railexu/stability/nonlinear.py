@@ -104,12 +104,14 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
 
 
 #: A plateau whose fitted amplitude is below this fraction of the amplitude one plateau above
-#: (one step higher in speed, starting from that plateau's state) is no longer on the branch
-#: followed: the motion fell at a fold onto another branch (railexu's assumption). Along a
-#: continuous branch the change over one step shrinks with the step; across a fold it does not.
-#: EU07 bogie, 5 m/s steps (docs/validation.md): 6.7 -> 1.7 mm across the large cycle's fold,
-#: 1.02 -> 0.43 mm along the small cycle.
-JUMP_FRACTION = 1.0 / 3.0
+#: (one step lower in speed, starting from that plateau's state) is no longer on the branch
+#: followed: the motion fell at a fold onto another branch or towards rest (railexu's
+#: assumption). Along a continuous branch the change over one step shrinks with the step (the
+#: refining stages step in quarters), across a fold it does not. Measured with 5 m/s steps
+#: (docs/validation.md): across the large cycle's fold 6.13 -> 1.83 mm (EU07 bogie, 1.25 m/s
+#: step) and 6.52 -> 2.33 mm (EU07); along the large cycle 7.58 -> 6.76 mm; along the bogie's
+#: small cycle 1.68 -> 1.02 mm.
+JUMP_FRACTION = 0.5
 
 
 def same_branch(above: dict, below: dict) -> bool:
