@@ -174,6 +174,12 @@ def _method_status(method: str, section: dict) -> list[str]:
             f"  fold of the branch followed from the top: between {lo:.2f} and "
             f"{hi:.2f} m/s" + (f" ({amp * 1e3:.2f} mm at {hi:.2f} m/s)" if amp else "")
         )
+    low = section.get("lowest_cycle") if method == "branch" else None
+    if low and low.get("amplitude_m"):
+        lines.append(
+            f"  a sustained cycle at the lowest speed run, {low['speed_m_per_s']:.2f} m/s: "
+            f"{low['amplitude_m'] * 1e3:.2f} mm"
+        )
     if method == "branch" and section.get("critical_amplitude_m"):
         lines.append(
             f"  lowest sustained cycle: {section['critical_amplitude_m'] * 1e3:.2f} mm "
