@@ -104,7 +104,10 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
         t0 += 0.5 * window
     out.update(_drift(out["windows"], plateau, a))
     unstable = [k for k, w in enumerate(out["windows"]) if not w["stable"]]
-    if plateau["stable"] and not unstable:
+    if not out["windows"]:
+        out["note"] = (f"the ramp is shorter than one window ({window:.2f} s, "
+                       f"{WINDOW_PERIODS:g} periods): nothing to classify")  # fmt: skip
+    elif plateau["stable"] and not unstable:
         out["note"] = "no hunting at the start speed"
     elif unstable and unstable[-1] == len(out["windows"]) - 1:
         out["note"] = "still hunting at the end of the ramp"
