@@ -19,15 +19,17 @@ amplitude, f the frequency, a the deceleration), so the default deceleration
 (:data:`DEFAULT_DECELERATION_M_PER_S2`, 0.2 m/s^2) follows from the rule ``a <= 0.01 f / (d ln
 A / dV)`` with f >= 3 Hz and a branch slope d ln A / dV up to 0.15 per m/s (the EU07 bogie's
 large cycle, docs/validation.md): the speed lost over one window of 16 periods is then at most
-16 a / f = 1.07 m/s. Each ramp measures its own branch slope from its windows and reports the
-drift per period (``drift_per_period``, ``drift_within_band``) with the largest deceleration
-that keeps it in the band (``max_deceleration_m_per_s2``).
+16 a / f = 1.07 m/s. Each ramp measures its branch's local slope from its windows and reports
+the largest drift per period (``drift_per_period`` at ``drift_speed_m_per_s``,
+``drift_within_band``) with the largest deceleration that keeps it in the band there
+(``max_deceleration_m_per_s2``).
 
 The method runs the ramp at ``ramp_deceleration`` and, to show the result rate-independent, at
 :data:`FASTER` times it; it reports the slower (requested) ramp's speed, both speeds and whether
 they agree within the sum of their resolutions (``rate_independent``). Each ramp also reports
 where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the last window
-on that branch, :func:`~railexu.stability.nonlinear.same_branch`). Every ramp has a distance
+on that branch, :func:`~railexu.stability.nonlinear.same_branch`), and the method whether the
+two ramps' folds agree (``fold_rate_independent``). Every ramp has a distance
 budget (``ramp_budget``): a ramp that would run further is cut at its budget and says so
 (``budget exhausted``), it never runs on."""
 
@@ -131,48 +133,61 @@ def _followed(windows: list[dict], plateau: dict) -> list[dict]:
     return on
 
 
-def _continuous(windows: list[dict], plateau: dict) -> list[dict]:
-    """The windows whose amplitude continues the plateau's (no drop below
-    :data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the window before, an oscillation
-    fitted), whatever their classification: a ramp too fast for the branch calls its windows
-    decaying, and their amplitudes still show the branch's slope."""
-    out, above = [], plateau.get("amplitude_m")
+def _segments(windows: list[dict]) -> list[list[dict]]:
+    """The ramp's windows split into runs of continuous amplitude: a run breaks where a window's
+    amplitude drops below :data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the window
+    before (a fold) or no oscillation is fitted; the classification does not matter (a ramp
+    too fast for its branch calls its windows decaying, and their amplitudes still show the
+    branch's slope)."""
+    out: list[list[dict]] = [[]]
     for w in windows:
-        amp = w.get("amplitude_m")
-        if not amp or not w.get("frequency_Hz") or not above or amp < JUMP_FRACTION * above:
-            break
-        if w.get("classification") in ("below floor", "broad-band", "large broad-band"):
-            break
-        out.append(w)
-        above = amp
-    return out
+        amp, f = w.get("amplitude_m"), w.get("frequency_Hz")
+        ok = bool(amp and f) and w.get("classification") not in (
+            "below floor", "broad-band", "large broad-band")  # fmt: skip
+        last = out[-1][-1]["amplitude_m"] if out[-1] else None
+        if not ok or (last and amp < JUMP_FRACTION * last):
+            out.append([])
+        if ok:
+            out[-1].append(w)
+    return [seg for seg in out if len(seg) > 1]
+
+
+#: The local slope of the branch is the running median of this many window-to-window slopes
+#: (robust against the one or two windows that overlap a fold).
+LOCAL_SLOPES = 5
 
 
 def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
     """``fold_m_per_s`` (the end speed of the last window on the branch followed from the
-    plateau; None when it holds to the end or there is none) and, from the fitted amplitudes of
-    the windows that continue the plateau's amplitude (:func:`_continuous`) against their
-    speeds (the median of the slopes between neighbouring windows),
-    ``branch_slope_per_m_per_s`` (d ln A / dV),
-    ``drift_per_period`` (the slope x a / f: the relative change of the branch's amplitude per
-    period on this ramp), ``drift_within_band`` (at most
+    plateau; None when it holds to the end or there is none) and the drift of the branch's
+    amplitude on this ramp: within each run of continuous amplitude (:func:`_segments`) the
+    local slope d ln A / dV is the running median of :data:`LOCAL_SLOPES` window-to-window
+    slopes; where it is steepest the ramp reports ``branch_slope_per_m_per_s``,
+    ``drift_speed_m_per_s``, ``drift_per_period`` (|slope| x a / f: the relative change of the
+    branch's amplitude per period), ``drift_within_band`` (at most
     :data:`MAX_DRIFT_PER_PERIOD`) and ``max_deceleration_m_per_s2`` (the rate that keeps it
     there)."""
     on = _followed(windows, plateau) if plateau.get("stable") is False else []
     out: dict = {"fold_m_per_s": None, "drift_per_period": None}
     if on and len(on) < len(windows):
         out["fold_m_per_s"] = on[-1]["speed_m_per_s"]
-    pts = [(w["speed_m_per_s"], w["amplitude_m"], w.get("frequency_Hz"))
-           for w in _continuous(windows, plateau)]  # fmt: skip
-    if len(pts) < 2 or pts[0][0] - pts[-1][0] <= 0.0:
+    worst = None
+    for seg in _segments(windows):
+        v = np.array([w["speed_m_per_s"] for w in seg])
+        ln_a = np.log([w["amplitude_m"] for w in seg])
+        f = np.array([w["frequency_Hz"] for w in seg])
+        dv = np.diff(v)
+        slopes = np.where(dv != 0.0, np.diff(ln_a) / np.where(dv != 0.0, dv, 1.0), 0.0)
+        n = min(LOCAL_SLOPES, slopes.size)
+        for k in range(slopes.size - n + 1):
+            slope = float(np.median(slopes[k : k + n]))
+            drift = abs(slope) * a / float(np.mean(f[k : k + n + 1]))
+            if worst is None or drift > worst[0]:
+                worst = (drift, slope, float(v[k + n]), float(np.mean(f[k : k + n + 1])))
+    if worst is None:
         return out
-    v, amp, f = (np.array(c, dtype=float) for c in zip(*pts, strict=True))
-    # the median of the window-to-window slopes: the branch's slope, not the steep fall of the
-    # one or two windows that overlap a fold
-    slope = float(np.median(np.diff(np.log(amp)) / np.diff(v)))
-    f_mean = float(np.mean(f))
-    drift = abs(slope) * a / f_mean
-    out.update(branch_slope_per_m_per_s=slope, drift_per_period=drift,
+    drift, slope, speed, f_mean = worst
+    out.update(branch_slope_per_m_per_s=slope, drift_per_period=drift, drift_speed_m_per_s=speed,
                drift_within_band=drift <= MAX_DRIFT_PER_PERIOD,
                max_deceleration_m_per_s2=(MAX_DRIFT_PER_PERIOD * f_mean / abs(slope)
                                           if slope else None))  # fmt: skip
@@ -257,6 +272,7 @@ def ramp_critical_speed(
         "deceleration_m_per_s2": [slow["deceleration_m_per_s2"], fast["deceleration_m_per_s2"]],
         "fold_m_per_s": slow.get("fold_m_per_s"),
         "drift_per_period": slow.get("drift_per_period"),
+        "drift_speed_m_per_s": slow.get("drift_speed_m_per_s"),
         "drift_within_band": slow.get("drift_within_band"),
         "max_deceleration_m_per_s2": slow.get("max_deceleration_m_per_s2"),
         "threshold_m": settings.threshold_m,
@@ -279,11 +295,17 @@ def ramp_critical_speed(
             out["note"] = (f"rate-dependent: {v1:.2f} m/s at {fast['deceleration_m_per_s2']:g} "
                            f"m/s^2, {v2:.2f} at {slow['deceleration_m_per_s2']:g}: slower "
                            "ramps are needed")  # fmt: skip
+    f1, f2 = fast.get("fold_m_per_s"), slow.get("fold_m_per_s")
+    if f1 is not None and f2 is not None:
+        out["fold_rate_independent"] = abs(f1 - f2) <= (
+            fast["resolution_m_per_s"] + slow["resolution_m_per_s"]
+        )
     if slow.get("note") == "still hunting at the end of the ramp":
         out["unstable_in_range"] = True
     if slow.get("drift_within_band") is False:
         words = (f"at {slow['deceleration_m_per_s2']:g} m/s^2 the branch's amplitude drifts by "
-                 f"{slow['drift_per_period']:.1%} per period (more than the 1 % band): use at "
-                 f"most {slow['max_deceleration_m_per_s2']:.2g} m/s^2")  # fmt: skip
+                 f"{slow['drift_per_period']:.1%} per period near "
+                 f"{slow['drift_speed_m_per_s']:.1f} m/s (more than the 1 % band): use at most "
+                 f"{slow['max_deceleration_m_per_s2']:.2g} m/s^2 there")  # fmt: skip
         out["note"] = f"{out['note']}; {words}" if out.get("note") else words
     return out
