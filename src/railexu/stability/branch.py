@@ -11,12 +11,17 @@ Dynamics 31: the branch of periodic solutions followed by continuation in speed)
 classified by the growth rate of its wheelsets' fitted envelope over the last ``fit_fraction`` of
 its time (:func:`~railexu.stability.nonlinear.classify_window`) and its amplitude recorded.
 
-Where the cycle is lost between two plateaus (a limit cycle above, a decaying motion below), the
-next stage runs down quickly from the top speed to the last speed with a limit cycle (on the
-branch: the cycle follows a deceleration of ``2 m/s^2``, checked by that plateau's own
-classification) and steps down from it in quarter steps. The stages stop when the step is at
-most ``tolerance_m_per_s`` (``converged``) or when the next stage would exceed ``max_runs``
-plateaus in all (``budget exhausted``)."""
+Two brackets are refined. The **fold**: where the branch followed from the top speed ends, a
+plateau below it either at rest or no longer on it (its amplitude dropped below
+:data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the plateau above: the motion fell onto
+another cycle). The **lowest cycle**: the highest speed without any sustained or growing
+oscillation below the lowest speed with one (the critical speed, whatever the cycle's
+amplitude). For each, the next stage runs down quickly from the top speed to the bracket's
+upper speed (on the branch: the cycle follows a deceleration of ``2 m/s^2``, checked by that
+plateau's own classification and, for the fold, by its amplitude) and steps down from it in
+quarter steps. The stages stop when both brackets are at most ``tolerance_m_per_s``
+(``converged``) or when the next stage would exceed ``max_runs`` plateaus in all (``budget
+exhausted``)."""
 
 from __future__ import annotations
 
