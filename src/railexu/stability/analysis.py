@@ -76,8 +76,8 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     nonlinear value is the lower one (a subcritical bifurcation: the wheel-rail contact's
     nonlinearity lets a large disturbance settle into a limit cycle below the linear value); the
     nonlinear value is the higher one (the linearisation's equivalent conicity, taken at one
-    amplitude, is larger than what the run's small motion sees, or the motion grows too slowly
-    to reach the threshold within the distance run)."""
+    amplitude, is larger than what the run's small motion sees, or near the linear value the
+    motion changes by less than the growth-rate classification resolves)."""
     linear = result.get("linear_m_per_s")
     nonlinear = {k: result.get(f"nonlinear_{k}_m_per_s") for k in ("branch", "bisection", "ramp")}
     nonlinear = {k: v for k, v in nonlinear.items() if v is not None}
@@ -118,8 +118,9 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     return head + (
         "the nonlinear value is higher: the linear analysis uses the equivalent conicity at "
         f"{settings.conicity_amplitude_m * 1e3:g} mm, larger than the conicity the run's small "
-        "motion sees near the centre, or the motion grows too slowly to reach the "
-        f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m."
+        "motion sees near the centre, or near the linear value the motion changes by less than "
+        "the classification resolves within the fit window (1 % per period, and about 0.13 / N "
+        f"per period over N periods of a {settings.distance_m:g} m run)."
     )
 
 
