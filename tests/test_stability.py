@@ -581,7 +581,8 @@ def test_bisection_records_its_disturbance_and_run_duration(monkeypatch):
 
 def test_summary_says_whether_the_ramp_converged_within_its_budget():
     """The printed summary of a ramp: its status (budget exhausted), both rates with what each
-    found, and whether they agree; of a branch: its status and resolution."""
+    found, and whether they agree; of a branch: its status and resolution, its fold and the
+    sustained cycle at its lowest speed."""
     from railexu.cli.critical_speed import summary_lines
 
     ramps = [{"deceleration_m_per_s2": a, "distance_m": 5000.0, "status": "budget exhausted",
@@ -589,10 +590,15 @@ def test_summary_says_whether_the_ramp_converged_within_its_budget():
              for a in (0.5, 0.25)]  # fmt: skip
     result = {"ramp": {"status": "budget exhausted", "ramps": ramps, "note": "budget exhausted",
                        "resolution_m_per_s": 1.2},
-              "branch": {"status": "converged", "resolution_m_per_s": 1.25, "branch": []},
+              "branch": {"status": "converged", "resolution_m_per_s": 1.25, "branch": [],
+                         "fold": {"bracket_m_per_s": [31.25, 32.5], "amplitude_m": 6.13e-3},
+                         "lowest_cycle": {"speed_m_per_s": 20.0, "amplitude_m": 0.43e-3}},
               "nonlinear_ramp_m_per_s": None, "nonlinear_branch_m_per_s": 31.25}  # fmt: skip
     text = "\n".join(summary_lines(result, ("ramp", "branch")))
     assert "nonlinear, ramp: not found in range  [budget exhausted]" in text
     assert "status: budget exhausted, resolution 1.20 m/s" in text
     assert "ramp at 0.25 m/s^2 over 5000 m" in text
     assert "status: converged, resolution 1.25 m/s" in text
+    assert "fold of the branch followed from the top: between 31.25 and 32.50 m/s" in text
+    assert "(6.13 mm at 32.50 m/s)" in text
+    assert "a sustained cycle at the lowest speed run, 20.00 m/s: 0.43 mm" in text
