@@ -202,3 +202,43 @@ def test_the_ramp_measures_its_drift_against_the_1_percent_band(a, within):
     assert out["max_deceleration_m_per_s2"] == pytest.approx(0.2, rel=0.1)
     assert DEFAULT_DECELERATION_M_PER_S2 == 0.2
     assert CriticalSpeedSettings().ramp_deceleration_m_per_s2 == DEFAULT_DECELERATION_M_PER_S2
+
+
+def test_the_check_ramp_stays_within_the_steepest_deceleration():
+    """The second ramp runs at twice the requested deceleration, or at half of it where twice
+    would pass the 5 m/s^2 that a speed profile allows (beyond the adhesion of dry rail)."""
+    from railexu.stability.ramp import check_deceleration
+
+    assert check_deceleration(CriticalSpeedSettings()) == pytest.approx(0.4)
+    assert check_deceleration(CriticalSpeedSettings(ramp_deceleration_m_per_s2=2.5)) == 5.0
+    assert check_deceleration(CriticalSpeedSettings(ramp_deceleration_m_per_s2=4.0)) == 2.0
+
+
+def test_a_run_too_short_to_classify_gives_no_verdict(monkeypatch):
+    """Fewer than four periods in the fit window: no verdict (not "stable"); the bisection and
+    the branch stop and say so, and the command exits with 1 (not converged)."""
+    import railexu.stability.nonlinear as nl
+    from railexu.cli.critical_speed import unfinished_methods
+    from railexu.stability import branch_critical_speed
+
+    settings = _settings(methods=("bisection",))
+    t = np.arange(0.0, 1.0, 0.01)  # 3 periods at 3 Hz
+    short = classify_window(t, {"ws1": 2e-3 * np.sin(2 * np.pi * FREQUENCY_HZ * t)}, settings)
+    assert short["classification"] == "too short" and short["stable"] is None
+
+    def fake_run(vehicle, track, speed, settings, offset_m=None):
+        return {"speed_m_per_s": speed, **short}
+
+    monkeypatch.setattr(nl, "nonlinear_run_is_stable", fake_run)
+    bis = bisection_critical_speed(None, None, settings)
+    assert bis["status"] == "no verdict" and "too short to classify" in bis["note"]
+    assert len(bis["runs"]) == 1 and bis["critical_speed_m_per_s"] is None
+
+    import railexu.stability.branch as br
+
+    monkeypatch.setattr(br, "run_stage", lambda v, tr, speeds, s: [
+        {"speed_m_per_s": x, **short} for x in speeds])  # fmt: skip
+    branch = branch_critical_speed(None, None, _settings())
+    assert branch["status"] == "no verdict" and not branch["converged"]
+    result = {"bisection": bis, "branch": branch, "ramp": {"status": "not found"}}
+    assert unfinished_methods(result) == ["branch (no verdict)", "bisection (no verdict)"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from railexu.cli.common import quantity, split_overrides
+from railexu.cli.common import EXIT_FAILED, quantity, split_overrides
 
 
 def add_parser(sub) -> None:
@@ -103,7 +103,27 @@ def command(args: argparse.Namespace) -> int:
     if result.get("comparison"):
         print(f"  note: {result['comparison']}")
     print(f"  wrote {len(written)} files to {args.out}")
+    unfinished = unfinished_methods(result)
+    if unfinished:
+        print(f"  NOT CONVERGED: {', '.join(unfinished)} (exit code {EXIT_FAILED})")
+        return EXIT_FAILED
     return 0
+
+
+#: Statuses of a nonlinear method that did not reach a verdict within its budget.
+UNFINISHED = ("budget exhausted", "run stopped", "restart lost the cycle",
+              "restart lost the branch", "no verdict")  # fmt: skip
+
+
+def unfinished_methods(result: dict) -> list[str]:
+    """``["branch (budget exhausted)", ...]``: the methods that did not finish (:data:`UNFINISHED`);
+    the command then exits with ``EXIT_FAILED`` (its results are written all the same)."""
+    out = []
+    for method in ("branch", "ramp", "bisection"):
+        status = (result.get(method) or {}).get("status")
+        if status in UNFINISHED:
+            out.append(f"{method} ({status})")
+    return out
 
 
 def _fmt(v) -> str:

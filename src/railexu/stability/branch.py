@@ -320,7 +320,7 @@ def _fold_section(points: list[dict], fold: tuple | None, settings) -> dict | No
 def _finish(out: dict, settings, fold: tuple | None = None, loss: tuple | None = None) -> dict:
     """Fills the result from the fold and loss brackets; a status that :func:`_stage_end` set
     (``run stopped``, ``restart lost the cycle``) stays, unconverged."""
-    ended = out["status"] in ("run stopped", "restart lost the cycle")
+    ended = out["status"] in ("run stopped", "restart lost the cycle", "no verdict")
     ended_status = out["status"]
     points = out["branch"]
     out["branches"] = branches_of(points)
@@ -374,12 +374,19 @@ def _bracket_of(found: list[dict], first: int, lost: float | None) -> tuple:
 
 def _stage_end(found: list[dict], stage: int, first: int, out: dict) -> bool:
     """Ends the branch (True, with the status and note set in ``out``) when a stage's run
-    stopped, when there is no cycle at the top speed, or when a refining stage does not find the
-    cycle again at its restart speed."""
+    stopped, when a plateau is too short to classify, when there is no cycle at the top speed,
+    or when a refining stage does not find the cycle again at its restart speed."""
     stopped = [p for p in found if p["classification"] == "not reached"]
     if stopped:
         why = next((p.get("reason") for p in found if p.get("reason")), "")
         out.update(status="run stopped", note=f"stage {stage}'s run stopped: {why}")
+        return True
+    short = [p for p in found if p.get("classification") == "too short"]
+    if short:
+        out.update(status="no verdict", note=(
+            f"stage {stage}: the plateau at {short[0]['speed_m_per_s']:g} m/s is too short to "
+            "classify (its fit window holds fewer than four periods): use a longer distance "
+            "or fit_fraction"))  # fmt: skip
         return True
     if stage == 0 and found[0]["stable"]:
         out.update(converged=True, status="converged", note=(

@@ -90,6 +90,11 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
     if status == "broad-band" and fit.amplitude > settings.threshold_m:
         status = "large broad-band"
     unstable = status in (*UNSTABLE_CLASSES, "large broad-band")
+    if status == "too short":  # fewer than four periods: no verdict (module docstring)
+        return {"classification": status, "stable": None, "amplitude_m": fit.amplitude,
+                "growth_rate_per_s": None, "growth_per_period": None,
+                "frequency_Hz": fit.frequency_Hz, "fit_periods": None, "wheelset": name,
+                "fit_window_s": None}  # fmt: skip
     return {
         "classification": status,
         "stable": not unstable,
@@ -197,9 +202,10 @@ def bisection_critical_speed(
         runs.append(r)
         if progress:
             progress(f"bisection: {v:.2f} m/s -> {_run_text(r)}")
+        if r["stable"] is None:
+            raise _NoVerdictError(v)
         return r["stable"]
 
-    lo, hi = settings.speed_min_m_per_s, settings.speed_max_m_per_s
     out = {
         "critical_speed_m_per_s": None,
         "bracket_m_per_s": None,
@@ -214,6 +220,24 @@ def bisection_critical_speed(
         f"{settings.distance_m / settings.speed_min_m_per_s:.2f} s at the lowest",
         "judged_by": _judgement(settings),
     }
+    try:
+        return _bisect(test, out, settings)
+    except _NoVerdictError as exc:
+        out["status"] = "no verdict"
+        out["note"] = (
+            f"the run at {exc.args[0]:.2f} m/s is too short to classify (its fit window holds "
+            f"fewer than four periods): use a longer distance than {settings.distance_m:g} m"
+        )
+        return _with_cycles(out)
+
+
+class _NoVerdictError(Exception):
+    """A run too short for the classification (stops the bisection, which says so)."""
+
+
+def _bisect(test: Callable[[float], bool], out: dict, settings: CriticalSpeedSettings) -> dict:
+    """The bisection proper (:func:`bisection_critical_speed`)."""
+    lo, hi = settings.speed_min_m_per_s, settings.speed_max_m_per_s
     if test(hi):
         out["stable_in_range"] = True
         out["note"] = f"stable up to the highest speed tested, {hi:g} m/s"
@@ -265,7 +289,7 @@ def _with_cycles(out: dict) -> dict:
 
 def _run_text(r: dict) -> str:
     """``unstable (limit cycle, 2.10 mm, growth +0.001 /period, 3.1 Hz)``."""
-    verdict = "stable" if r["stable"] else "unstable"
+    verdict = {True: "stable", False: "unstable"}.get(r["stable"], "no verdict")
     if r.get("amplitude_m") is None:
         return f"{verdict} ({r['classification']})"
     text = f"{verdict} ({r['classification']}, {r['amplitude_m'] * 1e3:.2f} mm"

@@ -25,7 +25,8 @@ the largest drift per period (``drift_per_period`` at ``drift_speed_m_per_s``,
 (``max_deceleration_m_per_s2``).
 
 The method runs the ramp at ``ramp_deceleration`` and, to show the result rate-independent, at
-:data:`FASTER` times it; it reports the slower (requested) ramp's speed, both speeds and whether
+:data:`FASTER` times it (or at it divided by :data:`FASTER` where twice would pass the steepest
+deceleration allowed, 5 m/s^2); it reports the slower ramp's speed, both speeds and whether
 they agree within the sum of their resolutions (``rate_independent``). Each ramp also reports
 where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the last window
 on that branch, :func:`~railexu.stability.nonlinear.same_branch`), and the method whether the
@@ -43,7 +44,7 @@ from railexu.operation.speed_profile import SpeedProfile
 from railexu.results.run import RunSettings, run
 from railexu.simulation.simulate import COMPLETED_STATES
 from railexu.stability.nonlinear import JUMP_FRACTION, _judgement, classify_window, same_branch
-from railexu.stability.settings import CriticalSpeedSettings
+from railexu.stability.settings import MAX_DECELERATION_M_PER_S2, CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
 
@@ -231,6 +232,14 @@ def one_ramp(vehicle, track, a: float, settings: CriticalSpeedSettings) -> dict:
     return out
 
 
+def check_deceleration(settings: CriticalSpeedSettings) -> float:
+    """The second ramp's deceleration [m/s^2]: :data:`FASTER` times the requested one, or, where
+    that would pass the steepest deceleration allowed (``MAX_DECELERATION_M_PER_S2``), the
+    requested one divided by :data:`FASTER`."""
+    a = settings.ramp_deceleration_m_per_s2
+    return FASTER * a if FASTER * a <= MAX_DECELERATION_M_PER_S2 else a / FASTER
+
+
 def ramp_critical_speed(
     vehicle: Vehicle,
     track: Track | None = None,
@@ -250,7 +259,7 @@ def ramp_critical_speed(
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     ramps = []
-    for a in (settings.ramp_deceleration_m_per_s2, FASTER * settings.ramp_deceleration_m_per_s2):
+    for a in (settings.ramp_deceleration_m_per_s2, check_deceleration(settings)):
         if progress:
             progress(f"ramp: {settings.speed_max_m_per_s:g} -> {settings.speed_min_m_per_s:g} "
                      f"m/s at {a:g} m/s^2 (budget {settings.ramp_budget_m:g} m)")  # fmt: skip
@@ -261,7 +270,7 @@ def ramp_critical_speed(
             progress(f"ramp at {a:g} m/s^2: {r['status']}, " + (
                 f"cycle vanishes at {v:.2f} m/s (+-{r['resolution_m_per_s']:.2f})" if v else
                 r.get("note", "")))  # fmt: skip
-    slow, fast = ramps
+    slow, fast = sorted(ramps, key=lambda r: r["deceleration_m_per_s2"])
     out = {
         "critical_speed_m_per_s": slow.get("critical_speed_m_per_s"),
         "resolution_m_per_s": slow.get("resolution_m_per_s"),
