@@ -188,8 +188,9 @@ def test_branch_critical_speed_is_the_linear_one_without_a_subcritical_branch(ve
     speed lies where the textbook model says the classification must change, within the
     branch's resolution. The classification counts +-1 % amplitude change per period as
     sustained, i.e. damping ratios between +-0.01 / (2 pi), and the envelope fit over N periods
-    resolves the growth to about 0.13 / N per period; sustained motion of at least 1 mm counts
-    as a limit cycle (unstable), of less as stable. So the lowest speed the branch calls
+    resolves the growth to about 0.13 / N per period; sustained motion above the 0.1 mm floor
+    counts as a limit cycle (unstable, whatever its amplitude). So the lowest speed the branch
+    calls
     unstable lies between the speeds where the textbook damping ratio is +zeta and -zeta,
     zeta = (0.01 + 0.13 / N) / (2 pi), widened by the branch's resolution (its last step)."""
     v_cr = textbook_critical_speed(vehicle, CONICITY)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from railexu.cli.common import quantity, split_overrides
+from railexu.cli.common import EXIT_FAILED, quantity, split_overrides
 
 
 def add_parser(sub) -> None:
@@ -44,7 +44,10 @@ def add_parser(sub) -> None:
         help="linear contact: cones of the equivalent conicity, or the profiles' tangent",
     )
     p.add_argument(
-        "--deceleration", type=quantity("m/s^2"), default=0.5, help="ramp deceleration [m/s^2]"
+        "--deceleration",
+        type=quantity("m/s^2"),
+        default=0.2,
+        help="ramp deceleration [m/s^2] (a second ramp at twice it checks rate independence)",
     )
     p.add_argument("--ramp-settle", type=quantity("m"), default=200.0,
                    help="ramp: distance at the highest speed before the ramp [m]")  # fmt: skip
@@ -100,7 +103,27 @@ def command(args: argparse.Namespace) -> int:
     if result.get("comparison"):
         print(f"  note: {result['comparison']}")
     print(f"  wrote {len(written)} files to {args.out}")
+    unfinished = unfinished_methods(result)
+    if unfinished:
+        print(f"  NOT CONVERGED: {', '.join(unfinished)} (exit code {EXIT_FAILED})")
+        return EXIT_FAILED
     return 0
+
+
+#: Statuses of a nonlinear method that did not reach a verdict within its budget.
+UNFINISHED = ("budget exhausted", "run stopped", "restart lost the cycle",
+              "restart lost the branch", "no verdict")  # fmt: skip
+
+
+def unfinished_methods(result: dict) -> list[str]:
+    """``["branch (budget exhausted)", ...]``: the methods that did not finish (:data:`UNFINISHED`);
+    the command then exits with ``EXIT_FAILED`` (its results are written all the same)."""
+    out = []
+    for method in ("branch", "ramp", "bisection"):
+        status = (result.get(method) or {}).get("status")
+        if status in UNFINISHED:
+            out.append(f"{method} ({status})")
+    return out
 
 
 def _fmt(v) -> str:
@@ -163,6 +186,33 @@ def _method_status(method: str, section: dict) -> list[str]:
         found = f"{v:.2f} m/s" if v is not None else r.get("note", "not found")
         lines.append(f"    ramp at {r['deceleration_m_per_s2']:g} m/s^2 over {r['distance_m']:.0f} "
                      f"m: {found} ({r['status']})")  # fmt: skip
+    fold = section.get("fold")
+    if fold:
+        lo, hi = fold["bracket_m_per_s"]
+        amp = fold.get("amplitude_m")
+        lines.append(
+            f"  fold of the branch followed from the top: between {lo:.2f} and "
+            f"{hi:.2f} m/s" + (f" ({amp * 1e3:.2f} mm at {hi:.2f} m/s)" if amp else "")
+        )
+    low = section.get("lowest_cycle") if method == "branch" else None
+    if low and low.get("amplitude_m"):
+        lines.append(
+            f"  a sustained cycle at the lowest speed run, {low['speed_m_per_s']:.2f} m/s: "
+            f"{low['amplitude_m'] * 1e3:.2f} mm"
+        )
+    if method == "branch" and section.get("critical_amplitude_m"):
+        lines.append(
+            f"  lowest sustained cycle: {section['critical_amplitude_m'] * 1e3:.2f} mm "
+            f"at {section['critical_speed_m_per_s']:.2f} m/s"
+        )
+    if method == "ramp" and section.get("fold_m_per_s"):
+        lines.append(
+            f"  the cycle followed from the plateau ends at {section['fold_m_per_s']:.2f} m/s"
+        )
+    if method == "ramp" and section.get("drift_per_period") is not None:
+        lines.append(
+            f"  branch drift on the ramp: {section['drift_per_period']:.2%} per period (band 1 %)"
+        )
     if section.get("warning"):
         lines.append(f"  warning: {section['warning']}")
     if "rate_independent" in section:

@@ -25,9 +25,10 @@ def critical_speed_figures(result: dict) -> dict[str, Figure]:
     - ``"root_locus"``: every named mode at every speed, damping ratio against frequency,
       coloured by speed (one marker shape per mode);
     - ``"nonlinear_stability"``: amplitude of the bisection runs and of the ramp against speed;
-    - ``"bifurcation_diagram"``: the limit-cycle branch (fitted amplitude of the deciding
-      wheelset against speed, limit cycles filled, decaying runs open), with the nonlinear and
-      the linear critical speeds marked.
+    - ``"bifurcation_diagram"``: the limit-cycle branches (fitted amplitude of the deciding
+      wheelset against speed, sustained and growing filled, decaying runs open, each branch
+      found joined by a line), the fold of the branch followed from the top speed as a shaded
+      bracket, the nonlinear and the linear critical speeds marked.
     """
     figs: dict[str, Figure] = {}
     title = f"{result.get('vehicle', '')}: critical speed"
@@ -48,7 +49,7 @@ _CLASS_STYLE = {
     "growing": ("tab:red", "^", "growing"),
     "large broad-band": ("tab:red", "x", "large, irregular"),
     "decaying": ("tab:blue", "v", "decaying (no limit cycle)"),
-    "small limit cycle": ("tab:blue", "s", "small limit cycle (not hunting)"),
+    "small limit cycle": ("tab:red", "s", "small limit cycle (sustained, below 1 mm)"),
     "below floor": ("tab:blue", "o", "below floor"),
 }
 
@@ -67,6 +68,15 @@ def _bifurcation_figure(result: dict, title: str) -> Figure:
         ax.plot(p["speed_m_per_s"], (amp or 0.0) * 1e3, marker, ms=8, color=colour, mfc=face,
                 label=None if label in seen else label)  # fmt: skip
         seen.add(label)
+    for b in branch.get("branches") or []:
+        amps = [(a or 0.0) * 1e3 for a in b["amplitude_m"]]
+        ax.plot(b["speeds_m_per_s"], amps, "-", color=f"C{b['index'] % 10}", alpha=0.6,
+                label=f"branch {b['index'] + 1}")  # fmt: skip
+    fold = branch.get("fold")
+    if fold:
+        lo, hi = fold["bracket_m_per_s"]
+        ax.axvspan(lo, hi, color="tab:orange", alpha=0.2,
+                   label=f"fold of branch 1: {lo:.2f}-{hi:.2f} m/s")  # fmt: skip
     crit = branch.get("critical_speed_m_per_s")
     if crit is not None:
         ax.axvline(crit, color="tab:red", ls="--", label=f"nonlinear (branch): {crit:.1f} m/s")

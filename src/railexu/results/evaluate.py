@@ -40,6 +40,8 @@ from railexu.assessment.safety import (
     wheel_unloading_criterion,
 )
 from railexu.assessment.signals import amplitude, window_means, zero_crossing_wavelength
+from railexu.assessment.steady_track import RULE as STEADY_TRACK_RULE
+from railexu.assessment.steady_track import curvature_under, longest_constant_span
 from railexu.results.summary import (
     EvaluationWindow,
     FlangeContact,
@@ -359,18 +361,37 @@ def _oscillations(run: _Run, indices: list[int], angle_rad: float) -> list[dict]
     """The wheelsets' sustained or growing oscillations (lateral displacement, angle of attack)
     in the window (:func:`~railexu.assessment.hunting.wheelset_oscillations`), each with
     whether a wheel of its wheelset was in flange contact (contact angle above ``angle_rad``)."""
-    inside = run.inside
-    if np.count_nonzero(inside) < 32:
-        return []
-    signals, flange = {}, {}
+    out = []
     for i in indices:
+        inside = _steady_part(run, i)
+        if np.count_nonzero(inside) < 32:
+            continue
+        signals = {}
         for quantity in ("lateral_m", "yaw_rad"):
             if f"ws{i}_{quantity}" in run.ts:
                 signals[f"ws{i}_{quantity}"] = run.col(f"ws{i}_{quantity}")[inside]
         angles = [run.col(c)[inside] for c in (f"ws{i}_{s}_max_angle_rad" for s in SIDES)
                   if c in run.ts]  # fmt: skip
-        flange[f"ws{i}"] = any(bool(np.any(a > angle_rad)) for a in angles)
-    return wheelset_oscillations(run.ts.time_s[: run.n][inside], signals, flange)
+        flange = {f"ws{i}": any(bool(np.any(a > angle_rad)) for a in angles)}
+        found = wheelset_oscillations(run.ts.time_s[: run.n][inside], signals, flange)
+        x = run.x[inside]
+        for o in found:
+            o["fit_span_m"] = [float(x[0]), float(x[-1])]
+            o["fit_rule"] = STEADY_TRACK_RULE
+        out.extend(found)
+    return out
+
+
+def _steady_part(run: _Run, i: int) -> NDArray[np.bool_]:
+    """The evaluation window's samples where wheelset ``i`` is not in a curve transition
+    (:func:`railexu.assessment.steady_track.longest_constant_span`); the whole window on
+    straight track or when the track's curvature was not recorded."""
+    needed = ("track_curvature_1_per_m", "ws1_s_m", f"ws{i}_s_m")
+    if not all(c in run.ts for c in needed):
+        return run.inside
+    kappa = curvature_under(run.col(f"ws{i}_s_m"), run.col("ws1_s_m"),
+                            run.col("track_curvature_1_per_m"))  # fmt: skip
+    return longest_constant_span(kappa, run.inside)
 
 
 def _finite_run(ts: TimeSeries, evaluate_from_m, evaluate_to_m) -> _Run:

@@ -18,18 +18,21 @@ wheelsets and bogies. Four ways to find it (``docs/assessment.md`` and ``docs/va
   from the equivalent conicity.)
 - **nonlinear bisection** (:func:`bisection_critical_speed`): runs of the full model after a
   lateral disturbance (an initial lateral offset of the whole vehicle); a run is *unstable*
-  when its oscillation grows or is a limit cycle of at least 1 mm (:func:`classify_run`,
-  growth rate of the fitted envelope); bisection between a stable and an unstable speed.
-  Deterministic: the same inputs give the same speed.
+  when its oscillation grows or is sustained, a limit cycle of any amplitude above the 0.1 mm
+  floor (:func:`classify_run`, growth rate of the fitted envelope; no amplitude threshold
+  decides); bisection between a stable and an unstable speed, saying where its unstable edge
+  is a bounded cycle and of what amplitude. Deterministic: the same inputs give the same speed.
 - **branch** (:func:`branch_critical_speed`): the limit-cycle branch followed as speed
   falls (settle, measure, lower the speed, restart from the amplitude found); each run
   classified by the growth rate of its fitted envelope (:func:`classify_run`); the lowest
-  speed with a limit cycle is the nonlinear critical speed. Bisection judges its runs the same
-  way.
+  speed with a sustained cycle is the nonlinear critical speed (with its amplitude), and the
+  fold of the branch followed from the top speed is bracketed. Bisection judges its runs the
+  same way.
 - **ramp** (:func:`ramp_critical_speed`): start above the critical speed from a disturbance,
-  let the hunting settle, then decelerate slowly; the speed at which the limit cycle vanishes
-  (its amplitude falls below the threshold for good) is the nonlinear critical speed from
-  above, which is lower than the linear one where the bifurcation is subcritical.
+  let the hunting settle, then decelerate slowly (0.2 m/s^2 by default, from the 1 % per
+  period drift rule, and twice that as the check of rate independence); windows of 16 periods
+  classified by growth rate; the last window with a sustained cycle gives the nonlinear
+  critical speed from above, the end of the cycle followed from the start its fold.
 
 Modules: :mod:`.settings` (settings and their parsing), :mod:`.linear`, :mod:`.modes` (mode
 tracking by shape, unstable bands), :mod:`.nonlinear`,

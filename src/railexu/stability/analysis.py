@@ -25,8 +25,10 @@ def critical_speed(
     """Critical speed of ``vehicle`` by the chosen methods; returns the content of
     ``critical_speed.json``: ``linear_m_per_s``, ``nonlinear_bisection_m_per_s``,
     ``nonlinear_ramp_m_per_s`` (None where a method was not run or found no crossing in the
-    range), ``nonlinear_branch_m_per_s`` (the lowest speed of the limit-cycle branch), one
-    section per method with its details, and the settings used."""
+    range), ``nonlinear_branch_m_per_s`` (the lowest speed with a sustained cycle),
+    ``nonlinear_branch_fold_m_per_s`` and ``nonlinear_branch_fold_bracket_m_per_s`` (where the
+    branch followed from the top speed ends: its fold), one section per method with its
+    details, and the settings used."""
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     out: dict = {
@@ -51,6 +53,9 @@ def critical_speed(
     if "branch" in settings.methods:
         out["branch"] = branch_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_branch_m_per_s"] = out["branch"]["critical_speed_m_per_s"]
+        fold = out["branch"].get("fold") or {}
+        out["nonlinear_branch_fold_m_per_s"] = fold.get("speed_m_per_s")
+        out["nonlinear_branch_fold_bracket_m_per_s"] = fold.get("bracket_m_per_s")
     out["comparison"] = compare_linear_nonlinear(out, settings)
     return out
 
@@ -71,8 +76,8 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     nonlinear value is the lower one (a subcritical bifurcation: the wheel-rail contact's
     nonlinearity lets a large disturbance settle into a limit cycle below the linear value); the
     nonlinear value is the higher one (the linearisation's equivalent conicity, taken at one
-    amplitude, is larger than what the run's small motion sees, or the motion grows too slowly
-    to reach the threshold within the distance run)."""
+    amplitude, is larger than what the run's small motion sees, or near the linear value the
+    motion changes by less than the growth-rate classification resolves)."""
     linear = result.get("linear_m_per_s")
     nonlinear = {k: result.get(f"nonlinear_{k}_m_per_s") for k in ("branch", "bisection", "ramp")}
     nonlinear = {k: v for k, v in nonlinear.items() if v is not None}
@@ -113,8 +118,9 @@ def compare_linear_nonlinear(result: dict, settings: CriticalSpeedSettings) -> s
     return head + (
         "the nonlinear value is higher: the linear analysis uses the equivalent conicity at "
         f"{settings.conicity_amplitude_m * 1e3:g} mm, larger than the conicity the run's small "
-        "motion sees near the centre, or the motion grows too slowly to reach the "
-        f"{settings.threshold_m * 1e3:g} mm threshold within {settings.distance_m:g} m."
+        "motion sees near the centre, or near the linear value the motion changes by less than "
+        "the classification resolves within the fit window (1 % per period, and about 0.13 / N "
+        f"per period over N periods of a {settings.distance_m:g} m run)."
     )
 
 

@@ -5,8 +5,11 @@ disturbance, and the growth-rate classification that it, the limit-cycle branch
 Every run is judged by the growth rate of its oscillation (:func:`classify_run`: the fitted
 envelope of :func:`railexu.assessment.oscillation.fit_oscillation` over the last part of the
 run), not by whether an amplitude threshold is reached within the run: a slowly growing
-oscillation is unstable however small it still is at the end, a limit cycle of at least
-``limit_cycle_floor_m`` is hunting, a decaying one is stable."""
+oscillation is unstable however small it still is at the end, a sustained one (a limit cycle) is
+unstable whatever its amplitude above the noise floor ``floor_m``, a decaying one is stable. No
+verdict depends on ``limit_cycle_floor_m``: it only labels a cycle smaller than it ``small limit
+cycle`` (below the run summary's hunting threshold), and the bisection says where such a bounded
+small cycle exists instead of reporting where it crosses a threshold."""
 
 from __future__ import annotations
 
@@ -40,8 +43,10 @@ def _lateral_amplitude(ts, fraction: float = 0.1) -> tuple[float, float, bool]:
 
 
 #: The classifications of :func:`classify_run` that mean "not stable": the oscillation grows,
-#: or it neither grows nor decays (a limit cycle: hunting).
-UNSTABLE_CLASSES = ("growing", "limit cycle")
+#: or it neither grows nor decays (a limit cycle, of any amplitude above the floor).
+UNSTABLE_CLASSES = ("growing", "limit cycle", "small limit cycle")
+#: The classifications of a sustained oscillation (a limit cycle).
+SUSTAINED_CLASSES = ("limit cycle", "small limit cycle")
 
 
 def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
@@ -52,13 +57,13 @@ def classify_run(ts, settings: CriticalSpeedSettings) -> dict:
     ``settings.floor_m``); the wheelset with the largest fitted amplitude decides:
     ``growing`` (more than 1 % amplitude growth per period), ``limit cycle`` (sustained: less
     than 1 % change per period), ``small limit cycle`` (sustained, but smaller than
-    ``settings.limit_cycle_floor_m``: the small oscillation of a profile pair near its centre,
-    not hunting; stable for the critical speed, railexu's assumption), ``decaying``, ``below
-    floor`` or, for a motion that is not one oscillation (``broad-band``), ``large broad-band``
-    above ``settings.threshold_m`` (an unstable, irregular motion) else ``broad-band``. Returns
-    the classification, whether it is stable, the fitted ``amplitude_m`` (envelope at the
-    end), ``growth_rate_per_s``, ``growth_per_period``, ``frequency_Hz``, the deciding
-    ``wheelset`` and the fit's window."""
+    ``settings.limit_cycle_floor_m``: a label only, e.g. the small oscillation of a profile pair
+    near its centre; unstable like every sustained cycle, so that no verdict moves with that
+    floor), ``decaying``, ``below floor`` or, for a motion that is not one oscillation
+    (``broad-band``), ``large broad-band`` above ``settings.threshold_m`` (an unstable,
+    irregular motion) else ``broad-band``. Returns the classification, whether it is stable,
+    the fitted ``amplitude_m`` (envelope at the end), ``growth_rate_per_s``,
+    ``growth_per_period``, ``frequency_Hz``, the deciding ``wheelset`` and the fit's window."""
     t = ts.time_s
     start = t[0] + (1.0 - settings.fit_fraction) * (t[-1] - t[0])
     inside = t >= start
@@ -85,6 +90,11 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
     if status == "broad-band" and fit.amplitude > settings.threshold_m:
         status = "large broad-band"
     unstable = status in (*UNSTABLE_CLASSES, "large broad-band")
+    if status == "too short":  # fewer than four periods: no verdict (module docstring)
+        return {"classification": status, "stable": None, "amplitude_m": fit.amplitude,
+                "growth_rate_per_s": None, "growth_per_period": None,
+                "frequency_Hz": fit.frequency_Hz, "fit_periods": None, "wheelset": name,
+                "fit_window_s": None}  # fmt: skip
     return {
         "classification": status,
         "stable": not unstable,
@@ -96,6 +106,27 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
         "wheelset": name,
         "fit_window_s": list(fit.window_s) if fit.window_s else None,
     }
+
+
+#: A plateau whose fitted amplitude is below this fraction of the amplitude one plateau above
+#: (one step lower in speed, starting from that plateau's state) is no longer on the branch
+#: followed: the motion fell at a fold onto another branch or towards rest (railexu's
+#: assumption). Along a continuous branch the change over one step shrinks with the step (the
+#: refining stages step in quarters), across a fold it does not. Measured with 5 m/s steps
+#: (docs/validation.md): across the large cycle's fold 6.13 -> 1.83 mm (EU07 bogie, 1.25 m/s
+#: step) and 6.52 -> 2.33 mm (EU07); along the large cycle 7.58 -> 6.76 mm; along the bogie's
+#: small cycle 1.68 -> 1.02 mm.
+JUMP_FRACTION = 0.5
+
+
+def same_branch(above: dict, below: dict) -> bool:
+    """``below`` (one plateau, or one ramp window, lower in speed, starting from the state of
+    ``above``) continues the branch of ``above``: both not stable and the amplitude not dropped
+    below :data:`JUMP_FRACTION` of it."""
+    if below.get("stable") is not False or above.get("stable") is not False:
+        return False
+    a, b = above.get("amplitude_m"), below.get("amplitude_m")
+    return a is None or b is None or b >= JUMP_FRACTION * a
 
 
 def _run_at(vehicle, track, speed: float, settings: CriticalSpeedSettings, offset_m: float):
@@ -144,10 +175,11 @@ def _judgement(settings: CriticalSpeedSettings) -> str:
     return (
         f"each run {settings.distance_m:g} m; classified by the growth rate of the fitted "
         f"envelope of the wheelsets' lateral displacement over the last "
-        f"{settings.fit_fraction:.0%} of the run's time (growing above "
-        f"{settings.floor_m * 1e3:g} mm, or a limit cycle of at least "
-        f"{settings.limit_cycle_floor_m * 1e3:g} mm: unstable; decaying, below "
-        f"{settings.floor_m * 1e3:g} mm or a smaller limit cycle: stable; +-1 % per period "
+        f"{settings.fit_fraction:.0%} of the run's time (growing, or sustained: a limit cycle "
+        f"of any amplitude above the {settings.floor_m * 1e3:g} mm floor: unstable; decaying or "
+        f"below {settings.floor_m * 1e3:g} mm: stable; cycles below "
+        f"{settings.limit_cycle_floor_m * 1e3:g} mm are labelled small, the verdict does not "
+        "depend on that label; +-1 % per period "
         "counts as a limit cycle; the fit resolves the growth to about 0.13 / N per period over "
         "N periods (fit_periods): at least 16 periods are needed for the 1 % band); the floors "
         "and the 1 % band are railexu's assumptions"
@@ -170,9 +202,10 @@ def bisection_critical_speed(
         runs.append(r)
         if progress:
             progress(f"bisection: {v:.2f} m/s -> {_run_text(r)}")
+        if r["stable"] is None:
+            raise _NoVerdictError(v)
         return r["stable"]
 
-    lo, hi = settings.speed_min_m_per_s, settings.speed_max_m_per_s
     out = {
         "critical_speed_m_per_s": None,
         "bracket_m_per_s": None,
@@ -187,14 +220,32 @@ def bisection_critical_speed(
         f"{settings.distance_m / settings.speed_min_m_per_s:.2f} s at the lowest",
         "judged_by": _judgement(settings),
     }
+    try:
+        return _bisect(test, out, settings)
+    except _NoVerdictError as exc:
+        out["status"] = "no verdict"
+        out["note"] = (
+            f"the run at {exc.args[0]:.2f} m/s is too short to classify (its fit window holds "
+            f"fewer than four periods): use a longer distance than {settings.distance_m:g} m"
+        )
+        return _with_cycles(out)
+
+
+class _NoVerdictError(Exception):
+    """A run too short for the classification (stops the bisection, which says so)."""
+
+
+def _bisect(test: Callable[[float], bool], out: dict, settings: CriticalSpeedSettings) -> dict:
+    """The bisection proper (:func:`bisection_critical_speed`)."""
+    lo, hi = settings.speed_min_m_per_s, settings.speed_max_m_per_s
     if test(hi):
         out["stable_in_range"] = True
         out["note"] = f"stable up to the highest speed tested, {hi:g} m/s"
-        return out
+        return _with_cycles(out)
     if not test(lo):
         out["unstable_in_range"] = True
         out["note"] = f"unstable at every speed tested, down to {lo:g} m/s"
-        return out
+        return _with_cycles(out)
     while hi - lo > settings.tolerance_m_per_s:
         mid = 0.5 * (lo + hi)
         if test(mid):
@@ -203,12 +254,42 @@ def bisection_critical_speed(
             hi = mid
     out["critical_speed_m_per_s"] = 0.5 * (lo + hi)
     out["bracket_m_per_s"] = [lo, hi]
+    return _with_cycles(out)
+
+
+def _with_cycles(out: dict) -> dict:
+    """Adds what the runs at the verdict's edge ended on: ``sustained_cycles`` (every run that
+    ended on a limit cycle: speed, amplitude, growth per period), ``critical_run`` (the lowest
+    unstable run: its classification and amplitude) and, where the lowest unstable run is a
+    sustained cycle, a sentence saying so: the verdict is the lowest speed at which a cycle is
+    sustained (judged by its growth rate, not by a threshold crossing)."""
+    runs = out["runs"]
+    cycles = [
+        {k: r.get(k) for k in ("speed_m_per_s", "amplitude_m", "growth_per_period", "frequency_Hz")}
+        for r in runs
+        if r.get("classification") in SUSTAINED_CLASSES
+    ]
+    out["sustained_cycles"] = sorted(cycles, key=lambda c: c["speed_m_per_s"])
+    unstable = [r for r in runs if r.get("stable") is False]
+    if not unstable:
+        return out
+    low = min(unstable, key=lambda r: r["speed_m_per_s"])
+    out["critical_run"] = {k: low.get(k) for k in ("speed_m_per_s", "classification",
+                                                   "amplitude_m", "growth_per_period")}  # fmt: skip
+    if low.get("classification") in SUSTAINED_CLASSES and low.get("amplitude_m"):
+        words = (
+            f"the lowest unstable run ({low['speed_m_per_s']:.2f} m/s) ends on a sustained "
+            f"cycle of {low['amplitude_m'] * 1e3:.2f} mm (growth "
+            f"{low['growth_per_period']:+.3f}/period): a bounded cycle exists there; the verdict "
+            "is where a cycle is sustained at all, whatever its amplitude"
+        )
+        out["note"] = f"{out['note']}; {words}" if out.get("note") else words
     return out
 
 
 def _run_text(r: dict) -> str:
     """``unstable (limit cycle, 2.10 mm, growth +0.001 /period, 3.1 Hz)``."""
-    verdict = "stable" if r["stable"] else "unstable"
+    verdict = {True: "stable", False: "unstable"}.get(r["stable"], "no verdict")
     if r.get("amplitude_m") is None:
         return f"{verdict} ({r['classification']})"
     text = f"{verdict} ({r['classification']}, {r['amplitude_m'] * 1e3:.2f} mm"

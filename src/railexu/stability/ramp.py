@@ -12,11 +12,27 @@ the speed at the end of the last window that is not stable (a limit cycle of at 
 limit cycle vanishes for good. Its resolution is the speed lost over one window
 (deceleration x window length).
 
-A ramp that is too fast lags behind the branch (the cycle decays slowly near its fold): the
-method runs the ramp at ``ramp_deceleration`` and at :data:`SLOWER` times it, reports the slower
-ramp's speed, both speeds and whether they agree within the sum of their resolutions
-(``rate_independent``). Every ramp has a distance budget (``ramp_budget``): a ramp that would
-run further is cut at its budget and says so (``budget exhausted``), it never runs on."""
+A ramp that is too fast lags behind the branch: on a ramp the cycle's amplitude follows the
+branch, which shrinks as speed falls, and a window is "sustained" only while that drift is below
+the classification's 1 % per period. The drift per period is ``(d ln A / dV) a / f`` (A the
+amplitude, f the frequency, a the deceleration), so the default deceleration
+(:data:`DEFAULT_DECELERATION_M_PER_S2`, 0.2 m/s^2) follows from the rule ``a <= 0.01 f / (d ln
+A / dV)`` with f >= 3 Hz and a branch slope d ln A / dV up to 0.15 per m/s (the EU07 bogie's
+large cycle, docs/validation.md): the speed lost over one window of 16 periods is then at most
+16 a / f = 1.07 m/s. Each ramp measures its branch's local slope from its windows and reports
+the largest drift per period (``drift_per_period`` at ``drift_speed_m_per_s``,
+``drift_within_band``) with the largest deceleration that keeps it in the band there
+(``max_deceleration_m_per_s2``).
+
+The method runs the ramp at ``ramp_deceleration`` and, to show the result rate-independent, at
+:data:`FASTER` times it (or at it divided by :data:`FASTER` where twice would pass the steepest
+deceleration allowed, 5 m/s^2); it reports the slower ramp's speed, both speeds and whether
+they agree within the sum of their resolutions (``rate_independent``). Each ramp also reports
+where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the last window
+on that branch, :func:`~railexu.stability.nonlinear.same_branch`), and the method whether the
+two ramps' folds agree (``fold_rate_independent``). Every ramp has a distance
+budget (``ramp_budget``): a ramp that would run further is cut at its budget and says so
+(``budget exhausted``), it never runs on."""
 
 from __future__ import annotations
 
@@ -27,8 +43,8 @@ import numpy as np
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.results.run import RunSettings, run
 from railexu.simulation.simulate import COMPLETED_STATES
-from railexu.stability.nonlinear import _judgement, classify_window
-from railexu.stability.settings import CriticalSpeedSettings
+from railexu.stability.nonlinear import JUMP_FRACTION, _judgement, classify_window, same_branch
+from railexu.stability.settings import MAX_DECELERATION_M_PER_S2, CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
 
@@ -36,8 +52,13 @@ from railexu.vehicle.vehicle import Vehicle
 #: error on steady sines sampled at 100 Hz: +-1.6 % per period over 8 periods, depending on the
 #: phase, 0.3 % over 16; the classification's tolerance is 1 % per period).
 WINDOW_PERIODS = 16.0
-#: The second ramp's deceleration as a fraction of the first's.
-SLOWER = 0.5
+#: The second ramp's deceleration as a multiple of the first's (the check of rate
+#: independence).
+FASTER = 2.0
+#: The default deceleration [m/s^2] (module docstring: the 1 % per period drift rule).
+DEFAULT_DECELERATION_M_PER_S2 = 0.2
+#: The largest drift of the branch's amplitude per period within the classification's band.
+MAX_DRIFT_PER_PERIOD = 0.01
 #: Window length when the plateau shows no oscillation to measure a frequency on [s].
 DEFAULT_WINDOW_S = 2.0
 
@@ -84,8 +105,12 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
         end = int(np.nonzero(sel)[0][-1])
         out["windows"].append({"speed_m_per_s": float(speed[end]), **c})
         t0 += 0.5 * window
+    out.update(_drift(out["windows"], plateau, a))
     unstable = [k for k, w in enumerate(out["windows"]) if not w["stable"]]
-    if plateau["stable"] and not unstable:
+    if not out["windows"]:
+        out["note"] = (f"the ramp is shorter than one window ({window:.2f} s, "
+                       f"{WINDOW_PERIODS:g} periods): nothing to classify")  # fmt: skip
+    elif plateau["stable"] and not unstable:
         out["note"] = "no hunting at the start speed"
     elif unstable and unstable[-1] == len(out["windows"]) - 1:
         out["note"] = "still hunting at the end of the ramp"
@@ -94,6 +119,79 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
     else:
         out["note"] = "the cycle vanished before the ramp's first window"
         out["critical_speed_m_per_s"] = float(speed[np.searchsorted(t, t_settle)])
+    return out
+
+
+def _followed(windows: list[dict], plateau: dict) -> list[dict]:
+    """The windows on the branch followed from the settling plateau, in order, up to the first
+    that leaves it (:func:`~railexu.stability.nonlinear.same_branch`)."""
+    on, above = [], plateau
+    for w in windows:
+        if not same_branch(above, w):
+            break
+        on.append(w)
+        above = w
+    return on
+
+
+def _segments(windows: list[dict]) -> list[list[dict]]:
+    """The ramp's windows split into runs of continuous amplitude: a run breaks where a window's
+    amplitude drops below :data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the window
+    before (a fold) or no oscillation is fitted; the classification does not matter (a ramp
+    too fast for its branch calls its windows decaying, and their amplitudes still show the
+    branch's slope)."""
+    out: list[list[dict]] = [[]]
+    for w in windows:
+        amp, f = w.get("amplitude_m"), w.get("frequency_Hz")
+        ok = bool(amp and f) and w.get("classification") not in (
+            "below floor", "broad-band", "large broad-band")  # fmt: skip
+        last = out[-1][-1]["amplitude_m"] if out[-1] else None
+        if not ok or (last and amp < JUMP_FRACTION * last):
+            out.append([])
+        if ok:
+            out[-1].append(w)
+    return [seg for seg in out if len(seg) > 1]
+
+
+#: The local slope of the branch is the running median of this many window-to-window slopes
+#: (robust against the one or two windows that overlap a fold).
+LOCAL_SLOPES = 5
+
+
+def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
+    """``fold_m_per_s`` (the end speed of the last window on the branch followed from the
+    plateau; None when it holds to the end or there is none) and the drift of the branch's
+    amplitude on this ramp: within each run of continuous amplitude (:func:`_segments`) the
+    local slope d ln A / dV is the running median of :data:`LOCAL_SLOPES` window-to-window
+    slopes; where it is steepest the ramp reports ``branch_slope_per_m_per_s``,
+    ``drift_speed_m_per_s``, ``drift_per_period`` (|slope| x a / f: the relative change of the
+    branch's amplitude per period), ``drift_within_band`` (at most
+    :data:`MAX_DRIFT_PER_PERIOD`) and ``max_deceleration_m_per_s2`` (the rate that keeps it
+    there)."""
+    on = _followed(windows, plateau) if plateau.get("stable") is False else []
+    out: dict = {"fold_m_per_s": None, "drift_per_period": None}
+    if on and len(on) < len(windows):
+        out["fold_m_per_s"] = on[-1]["speed_m_per_s"]
+    worst = None
+    for seg in _segments(windows):
+        v = np.array([w["speed_m_per_s"] for w in seg])
+        ln_a = np.log([w["amplitude_m"] for w in seg])
+        f = np.array([w["frequency_Hz"] for w in seg])
+        dv = np.diff(v)
+        slopes = np.where(dv != 0.0, np.diff(ln_a) / np.where(dv != 0.0, dv, 1.0), 0.0)
+        n = min(LOCAL_SLOPES, slopes.size)
+        for k in range(slopes.size - n + 1):
+            slope = float(np.median(slopes[k : k + n]))
+            drift = abs(slope) * a / float(np.mean(f[k : k + n + 1]))
+            if worst is None or drift > worst[0]:
+                worst = (drift, slope, float(v[k + n]), float(np.mean(f[k : k + n + 1])))
+    if worst is None:
+        return out
+    drift, slope, speed, f_mean = worst
+    out.update(branch_slope_per_m_per_s=slope, drift_per_period=drift, drift_speed_m_per_s=speed,
+               drift_within_band=drift <= MAX_DRIFT_PER_PERIOD,
+               max_deceleration_m_per_s2=(MAX_DRIFT_PER_PERIOD * f_mean / abs(slope)
+                                          if slope else None))  # fmt: skip
     return out
 
 
@@ -134,6 +232,14 @@ def one_ramp(vehicle, track, a: float, settings: CriticalSpeedSettings) -> dict:
     return out
 
 
+def check_deceleration(settings: CriticalSpeedSettings) -> float:
+    """The second ramp's deceleration [m/s^2]: :data:`FASTER` times the requested one, or, where
+    that would pass the steepest deceleration allowed (``MAX_DECELERATION_M_PER_S2``), the
+    requested one divided by :data:`FASTER`."""
+    a = settings.ramp_deceleration_m_per_s2
+    return FASTER * a if FASTER * a <= MAX_DECELERATION_M_PER_S2 else a / FASTER
+
+
 def ramp_critical_speed(
     vehicle: Vehicle,
     track: Track | None = None,
@@ -142,7 +248,9 @@ def ramp_critical_speed(
 ) -> dict:
     """Nonlinear critical speed by the ramp method at two rates (module docstring).
 
-    Returns ``critical_speed_m_per_s`` (the slower ramp's), ``resolution_m_per_s``,
+    Returns ``critical_speed_m_per_s`` (the slower, requested ramp's), ``resolution_m_per_s``,
+    ``fold_m_per_s`` (where the cycle followed from the plateau ends), ``drift_per_period``,
+    ``drift_within_band``, ``max_deceleration_m_per_s2``,
     ``rate_independent`` (the two ramps agree within the sum of their resolutions),
     ``rate_difference_m_per_s``, ``status`` (``converged``, ``budget exhausted``, ``run stopped``
     or ``not found``), ``ramps`` (both, each with its windows), ``speeds_m_per_s`` and
@@ -151,7 +259,7 @@ def ramp_critical_speed(
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     ramps = []
-    for a in (settings.ramp_deceleration_m_per_s2, SLOWER * settings.ramp_deceleration_m_per_s2):
+    for a in (settings.ramp_deceleration_m_per_s2, check_deceleration(settings)):
         if progress:
             progress(f"ramp: {settings.speed_max_m_per_s:g} -> {settings.speed_min_m_per_s:g} "
                      f"m/s at {a:g} m/s^2 (budget {settings.ramp_budget_m:g} m)")  # fmt: skip
@@ -162,7 +270,7 @@ def ramp_critical_speed(
             progress(f"ramp at {a:g} m/s^2: {r['status']}, " + (
                 f"cycle vanishes at {v:.2f} m/s (+-{r['resolution_m_per_s']:.2f})" if v else
                 r.get("note", "")))  # fmt: skip
-    fast, slow = ramps
+    slow, fast = sorted(ramps, key=lambda r: r["deceleration_m_per_s2"])
     out = {
         "critical_speed_m_per_s": slow.get("critical_speed_m_per_s"),
         "resolution_m_per_s": slow.get("resolution_m_per_s"),
@@ -170,7 +278,12 @@ def ramp_critical_speed(
         "ramps": ramps,
         "speeds_m_per_s": [w["speed_m_per_s"] for w in slow.get("windows", [])],
         "amplitude_m": [w.get("amplitude_m") or 0.0 for w in slow.get("windows", [])],
-        "deceleration_m_per_s2": [fast["deceleration_m_per_s2"], slow["deceleration_m_per_s2"]],
+        "deceleration_m_per_s2": [slow["deceleration_m_per_s2"], fast["deceleration_m_per_s2"]],
+        "fold_m_per_s": slow.get("fold_m_per_s"),
+        "drift_per_period": slow.get("drift_per_period"),
+        "drift_speed_m_per_s": slow.get("drift_speed_m_per_s"),
+        "drift_within_band": slow.get("drift_within_band"),
+        "max_deceleration_m_per_s2": slow.get("max_deceleration_m_per_s2"),
         "threshold_m": settings.threshold_m,
         "disturbance": f"initial lateral offset {settings.initial_lateral_m * 1e3:g} mm, "
         f"{settings.ramp_settle_m:g} m at {settings.speed_max_m_per_s:g} m/s before the ramp",
@@ -191,6 +304,17 @@ def ramp_critical_speed(
             out["note"] = (f"rate-dependent: {v1:.2f} m/s at {fast['deceleration_m_per_s2']:g} "
                            f"m/s^2, {v2:.2f} at {slow['deceleration_m_per_s2']:g}: slower "
                            "ramps are needed")  # fmt: skip
+    f1, f2 = fast.get("fold_m_per_s"), slow.get("fold_m_per_s")
+    if f1 is not None and f2 is not None:
+        out["fold_rate_independent"] = abs(f1 - f2) <= (
+            fast["resolution_m_per_s"] + slow["resolution_m_per_s"]
+        )
     if slow.get("note") == "still hunting at the end of the ramp":
         out["unstable_in_range"] = True
+    if slow.get("drift_within_band") is False:
+        words = (f"at {slow['deceleration_m_per_s2']:g} m/s^2 the branch's amplitude drifts by "
+                 f"{slow['drift_per_period']:.1%} per period near "
+                 f"{slow['drift_speed_m_per_s']:.1f} m/s (more than the 1 % band): use at most "
+                 f"{slow['max_deceleration_m_per_s2']:.2g} m/s^2 there")  # fmt: skip
+        out["note"] = f"{out['note']}; {words}" if out.get("note") else words
     return out

@@ -47,7 +47,9 @@ class CriticalSpeedSettings:
         linear_points: number of speeds of the linear analysis.
         conicity_amplitude_m: amplitude at which the equivalent conicity is taken.
         linearization: ``equivalent_conicity`` (default) or ``profiles``.
-        ramp_deceleration_m_per_s2: deceleration of the ramp.
+        ramp_deceleration_m_per_s2: deceleration of the ramp (0.2 m/s^2: the 1 % per period
+            drift rule of :mod:`railexu.stability.ramp`); a second ramp at twice it checks
+            that the result does not depend on the rate.
         ramp_settle_m: distance run at the top speed before the ramp starts.
         ramp_budget_m: the most distance one ramp may run (settling included): a ramp that
             would need more is cut there and says ``budget exhausted``.
@@ -57,9 +59,10 @@ class CriticalSpeedSettings:
         fit_fraction: share of each nonlinear run's time (its end) over which the
             oscillation's envelope is fitted for the growth-rate classification.
         floor_m: amplitude below which a nonlinear run's oscillation counts as none (stable).
-        limit_cycle_floor_m: a sustained oscillation (limit cycle) smaller than this is a small
-            limit cycle, not hunting (railexu's assumption: the run summary's 1 mm hunting
-            threshold); a growing oscillation is unstable whatever its amplitude.
+        limit_cycle_floor_m: a sustained oscillation (limit cycle) smaller than this is
+            labelled a small limit cycle (the run summary's 1 mm hunting threshold); a label
+            only: every sustained or growing oscillation above ``floor_m`` is unstable, so no
+            critical speed moves with this value.
     """
 
     methods: tuple[str, ...] = METHODS
@@ -72,7 +75,7 @@ class CriticalSpeedSettings:
     linear_points: int = 31
     conicity_amplitude_m: float = 0.003
     linearization: str = "equivalent_conicity"
-    ramp_deceleration_m_per_s2: float = 0.5
+    ramp_deceleration_m_per_s2: float = 0.2
     ramp_settle_m: float = 200.0
     ramp_budget_m: float = 20000.0
     time_step_s: float = 0.002
