@@ -1,0 +1,172 @@
+"""The switch panel's rails as profile slices: stock rail and switch blade from a plain rail.
+
+No public slices of a switch blade were found (CONTACT's S&C test bank has the crossing only), so
+the blade and the stock rail are generated from the plain rail's profile with a stated planing
+rule. Every number of the rule is a parameter of :class:`SwitchPlaning`, each railexu's
+assumption with its physical reason (docs/switches-and-crossings.md, "The turnout").
+
+In the axes of the route's rail on the switch side (field side ``y`` positive, ``z`` down, ``s``
+from the switch toe along the route), with ``y_g`` the plain rail head's gauge-side edge and
+``W`` its width:
+
+- the **other route's rail** (the stock rail for this route's closed blade) leaves this route's
+  rail tangentially: its lateral divergence is ``d(s) = R (1 - cos(s / R))`` with ``R`` the
+  radius of the curved one of the two rails (a tangential switch: both gauge lines touch at
+  the toe);
+- the **blade** is the plain rail's head on the gauge side of ``y_g + w(s)``, its width
+  ``w(s) = min(w_tip + d(s), W)`` (its back lies against the stock rail, whose gauge side is
+  undercut by ``w_tip`` to take the blade's tip), lowered by
+  ``drop(s) = drop_tip max(0, 1 - s / L_rise)`` (a tip below the wheels, rising to full height
+  over ``L_rise``);
+- the **stock rail** is the plain rail moved to the field side by ``d(s)`` and cut at
+  ``y_g + w_tip`` of its own head (the undercut), from ``-runout`` before the toe (the undercut
+  runs in over ``runout``); it leaves the slices where ``d(s)`` exceeds ``stock_reach`` (beyond
+  any wheel's field face).
+
+Each slice is one curve ``z(y)``: blade, a joint (the blade's back against the stock rail's cut
+face, 1 um wide; once they part, a straight line below both) and stock rail, split by feature points so that the blade's tip and the cut
+face stay edges (:mod:`railexu.profiles.variable.interpolate`). Feature columns: blade start,
+blade end = joint start, joint end = stock start, stock end; NaN where the part is absent.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from railexu.profiles.core import ProfileError
+from railexu.profiles.variable.slices import ProfileSlices, arc_length, check_slices
+
+#: Width of the joint between the blade's back and the stock rail's cut face [m] (a graph
+#: ``z(y)`` needs ``y`` to increase; 1 um is far below the kernel's 0.1 mm table step).
+JOINT_WIDTH_M = 1.0e-6
+
+
+@dataclass(frozen=True)
+class SwitchPlaning:
+    """The planing rule of the switch blade and the stock rail (railexu's assumptions).
+
+    Attributes:
+        tip_width_m: the blade's head width at the toe [m] (a tip thinner than a few mm breaks;
+            6 mm: railexu's assumption).
+        tip_drop_m: how far the blade's top lies below the stock rail's at the toe [m] (so that
+            no wheel strikes the thin tip; 10 mm: railexu's assumption).
+        rise_length_m: length over which the blade rises linearly to full height [m] (3.5 m:
+            the blade's head is then ~30 mm wide on an R 245 m switch, wide enough to carry a
+            wheel; railexu's assumption).
+        runout_m: length ahead of the toe over which the stock rail's undercut runs in [m]
+            (0.2 m: railexu's assumption).
+        stock_reach_m: divergence beyond which the other route's rail is dropped from the
+            slices [m] (0.13 m: its cut edge then lies > 85 mm field-side of the rail's crown,
+            beyond the field face of a wheel displaced 10 mm; railexu's assumption).
+        slice_step_m: spacing of the generated slices [m] (0.25 m: the linear interpolation
+            of the quadratic divergence then errs by ``step^2 / 8R`` = 32 um at R 245 m).
+    """
+
+    tip_width_m: float = 0.006
+    tip_drop_m: float = 0.010
+    rise_length_m: float = 3.5
+    runout_m: float = 0.2
+    stock_reach_m: float = 0.13
+    slice_step_m: float = 0.25
+
+    def __post_init__(self) -> None:
+        limits = {
+            "tip_width_m": (0.0005, 0.05),
+            "tip_drop_m": (0.0, 0.05),
+            "rise_length_m": (0.1, 30.0),
+            "runout_m": (0.01, 5.0),
+            "stock_reach_m": (0.02, 1.0),
+            "slice_step_m": (0.01, 2.0),
+        }
+        for name, (lo, hi) in limits.items():
+            value = getattr(self, name)
+            if not (math.isfinite(value) and lo <= value <= hi):
+                raise ProfileError(f"switch planing: {name} = {value}: expected {lo} .. {hi}")
+
+
+def divergence_m(s_m: np.ndarray | float, radius_m: float) -> np.ndarray:
+    """Lateral distance [m] between two rails that touch tangentially at ``s = 0``, one
+    straight and one of radius ``radius_m``, at ``s`` along them (0 before the toe)."""
+    s = np.maximum(np.asarray(s_m, dtype=float), 0.0)
+    return radius_m * (1.0 - np.cos(np.minimum(s / radius_m, 0.5 * math.pi)))
+
+
+def switch_panel_slices(
+    rail_points_m: np.ndarray, radius_m: float, planing: SwitchPlaning, source: str
+) -> ProfileSlices:
+    """Slices of one side's switch panel from the plain rail's points (see the module docstring).
+
+    Args:
+        rail_points_m: the plain rail's head ``(y, z)`` [m], ``y`` increasing, ``z`` down, in
+            the rail's own axes (field side positive).
+        radius_m: radius of the curved one of the blade and the stock rail [m].
+        planing: the planing rule.
+        source: a name for messages (the turnout file).
+
+    Returns:
+        slices from ``-runout`` before the toe to the first slice beyond ``stock_reach``, the
+        last one the plain rail (the blade at full width and height, the stock rail gone).
+    """
+    p = np.asarray(rail_points_m, dtype=float)
+    if p.ndim != 2 or p.shape[0] < 4 or not np.all(np.diff(p[:, 0]) > 0):
+        raise ProfileError(f"{source}: the plain rail's points must be a graph z(y), y increasing")
+    if not (math.isfinite(radius_m) and radius_m >= 50.0):
+        raise ProfileError(f"{source}: switch radius {radius_m} m: expected >= 50 m")
+    s_end = radius_m * math.acos(1.0 - planing.stock_reach_m / radius_m)
+    n = int(math.ceil(s_end / planing.slice_step_m))
+    stations = [-planing.runout_m, *(planing.slice_step_m * np.arange(n + 1)), s_end + 0.01]
+    points, features, names = [], [], []
+    for k, s in enumerate(stations):
+        if k == 0:
+            pts, feat = p.copy(), [math.nan, math.nan, 0.0, math.inf]
+        elif k == len(stations) - 1:
+            pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan]
+        else:
+            pts, feat = _panel_section(p, float(s), radius_m, planing)
+        points.append(pts)
+        features.append(feat)
+        names.append(f"switch panel s = {s:.3f} m")
+    f = np.array(features)
+    lengths = np.array([arc_length(q)[-1] for q in points])
+    f = np.where(np.isinf(f), lengths[:, None], f)
+    slices = ProfileSlices(source, np.array(stations, dtype=float), tuple(points), f,
+                           (None,) * len(stations), tuple(names))  # fmt: skip
+    check_slices(slices)
+    return slices
+
+
+def _panel_section(
+    p: np.ndarray, s: float, radius_m: float, planing: SwitchPlaning
+) -> tuple[np.ndarray, list[float]]:
+    """Blade, joint and stock rail at ``s`` >= 0 from the toe, and the curve's features."""
+    y_g, y_f = float(p[0, 0]), float(p[-1, 0])
+    d = float(divergence_m(s, radius_m))
+    w = min(planing.tip_width_m + d, y_f - y_g)
+    drop = planing.tip_drop_m * max(0.0, 1.0 - s / planing.rise_length_m)
+    blade = _cut(p, hi=y_g + w)
+    blade[:, 1] += drop
+    stock = _cut(p, lo=y_g + planing.tip_width_m)
+    stock[:, 0] += d
+    blade_len = float(arc_length(blade)[-1])
+    if stock[0, 0] - blade[-1, 0] < JOINT_WIDTH_M:  # the blade's back against the cut face
+        stock[0, 0] = blade[-1, 0] + JOINT_WIDTH_M
+        stock = np.vstack((stock[:1], stock[1:][stock[1:, 0] > stock[0, 0]]))
+    # apart (the blade at full width): the joint is a straight line below both heads, as the
+    # kernel's table bridges separate rails (railexu.contact.variable_tables)
+    joint_len = float(np.hypot(*(stock[0] - blade[-1])))
+    return np.vstack((blade, stock)), [0.0, blade_len, blade_len + joint_len, math.inf]
+
+
+def _cut(p: np.ndarray, lo: float | None = None, hi: float | None = None) -> np.ndarray:
+    """The points of ``p`` within ``[lo, hi]`` in ``y``, with the cut ends interpolated."""
+    y0 = p[0, 0] if lo is None else lo
+    y1 = p[-1, 0] if hi is None else hi
+    inside = p[(p[:, 0] > y0 + 1e-9) & (p[:, 0] < y1 - 1e-9)]  # no near-duplicate ends
+    ends = np.array([[y0, np.interp(y0, p[:, 0], p[:, 1])], [y1, np.interp(y1, p[:, 0], p[:, 1])]])
+    return np.vstack((ends[:1], inside, ends[1:]))
+
+
+__all__ = ["SwitchPlaning", "divergence_m", "switch_panel_slices"]
