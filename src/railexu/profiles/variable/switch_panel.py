@@ -117,7 +117,8 @@ def switch_panel_slices(
         raise ProfileError(f"{source}: switch radius {radius_m} m: expected >= 50 m")
     s_end = radius_m * math.acos(1.0 - planing.stock_reach_m / radius_m)
     n = int(math.ceil(s_end / planing.slice_step_m))
-    stations = [-planing.runout_m, *(planing.slice_step_m * np.arange(n + 1)), s_end + 0.01]
+    regular = planing.slice_step_m * np.arange(n + 1)  # the last at or beyond s_end
+    stations = [-planing.runout_m, *regular, regular[-1] + 0.01]  # then the plain rail
     points, features, names = [], [], []
     for k, s in enumerate(stations):
         if k == 0:
