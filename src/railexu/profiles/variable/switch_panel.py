@@ -23,10 +23,12 @@ from the switch toe along the route), with ``y_g`` the plain rail head's gauge-s
   runs in over ``runout``); it leaves the slices where ``d(s)`` exceeds ``stock_reach`` (beyond
   any wheel's field face).
 
-Each slice is one curve ``z(y)``: blade, a joint (the blade's back against the stock rail's cut
-face, 1 um wide; once they part, a straight line below both) and stock rail, split by feature points so that the blade's tip and the cut
-face stay edges (:mod:`railexu.profiles.variable.interpolate`). Feature columns: blade start,
-blade end = joint start, joint end = stock start, stock end; NaN where the part is absent.
+Each slice is one polyline ``z(y)``: blade, then stock rail (the blade's back against the stock
+rail's cut face, 1 um apart, or apart once the blade has its full width). Feature points make
+them two separate rails whose edges stay edges (:mod:`railexu.profiles.variable.interpolate`),
+so that no spline runs across the joint's step. Feature columns: blade start, blade end, a
+column always absent (the joint is no part), stock start, stock end; NaN where a rail is
+absent (the blade before the toe, the stock rail beyond ``stock_reach``).
 """
 
 from __future__ import annotations
@@ -122,9 +124,9 @@ def switch_panel_slices(
     points, features, names = [], [], []
     for k, s in enumerate(stations):
         if k == 0:
-            pts, feat = p.copy(), [math.nan, math.nan, 0.0, math.inf]
+            pts, feat = p.copy(), [math.nan, math.nan, math.nan, 0.0, math.inf]
         elif k == len(stations) - 1:
-            pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan]
+            pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan, math.nan]
         else:
             pts, feat = _panel_section(p, float(s), radius_m, planing)
         points.append(pts)
@@ -155,10 +157,8 @@ def _panel_section(
     if stock[0, 0] - blade[-1, 0] < JOINT_WIDTH_M:  # the blade's back against the cut face
         stock[0, 0] = blade[-1, 0] + JOINT_WIDTH_M
         stock = np.vstack((stock[:1], stock[1:][stock[1:, 0] > stock[0, 0]]))
-    # apart (the blade at full width): the joint is a straight line below both heads, as the
-    # kernel's table bridges separate rails (railexu.contact.variable_tables)
-    joint_len = float(np.hypot(*(stock[0] - blade[-1])))
-    return np.vstack((blade, stock)), [0.0, blade_len, blade_len + joint_len, math.inf]
+    joint_len = float(np.hypot(*(stock[0] - blade[-1])))  # not a part: two separate rails
+    return np.vstack((blade, stock)), [0.0, blade_len, math.nan, blade_len + joint_len, math.inf]
 
 
 def _cut(p: np.ndarray, lo: float | None = None, hi: float | None = None) -> np.ndarray:
