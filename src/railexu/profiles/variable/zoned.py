@@ -22,6 +22,7 @@ import numpy as np
 
 from railexu.profiles.core import ProfileError
 from railexu.profiles.variable.interpolate import VariableProfile
+from railexu.profiles.variable.slices import ProfileSlices
 
 
 @dataclass(frozen=True)
@@ -67,7 +68,11 @@ class ZonedProfile:
         if plain.ndim != 2 or plain.shape[0] < 4 or not np.all(np.diff(plain[:, 0]) > 0):
             raise ProfileError(f"{source}: the plain rail's points must be a graph z(y)")
         self.panels = tuple(order)
-        self.plain_m = plain
+        # the plain rail resampled as every slice is: where a panel's end slice is the plain
+        # rail, the surface is the same on both sides of the panel's end, to the last bit
+        uniform = ProfileSlices(f"{source} (plain rail)", np.array([0.0, 1.0]), (plain, plain),
+                                None, (None, None), ("plain", "plain"))  # fmt: skip
+        self.plain_m = VariableProfile(uniform).curves_at(0.0)[0]
         self.slices = _Source(source)
 
     @property
