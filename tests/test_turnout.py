@@ -28,7 +28,7 @@ from railexu.profiles.variable.switch_panel import (
     switch_panel_slices,
 )
 from railexu.profiles.variable.zoned import Panel, ZonedProfile
-from railexu.track.track import load_track
+from railexu.track.track import load_track, track_from_dict
 from railexu.track.turnout import TurnoutGeometry, route_layout, turnout_side
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -49,10 +49,9 @@ def test_the_r245_circle_meets_the_1_in_9_25_crossing():
     geo = TurnoutGeometry(245.0, 9.25, GAUGE)
     layout = route_layout(geo, "diverging", "facing", "left", approach_m=10.0, run_out_m=5.0,
                           s0_from_ip_m=0.0, crossing_range_m=(-0.1, 0.2))  # fmt: skip
+    sections = [dict(p) for p in layout.sections]
     data = {"format_version": 1, "name": "t", "rail_profile": "MBench_UIC60",
-            "geometry": {"type": "sections", "sections": [dict(p) for p in layout.sections]}}  # fmt: skip
-    from railexu.track.track import track_from_dict
-
+            "geometry": {"type": "sections", "sections": sections}}  # fmt: skip
     alignment = track_from_dict(data).alignment
     x_ip, s_ip_div, angle = geo.intersection()
     s = layout.ip_m
@@ -86,7 +85,10 @@ def test_facing_and_trailing_tracks_are_the_same_rails_run_both_ways():
     facing equal those at (end - T) trailing, on the other side (for 10 positions across the
     switch panel and the crossing)."""
     for route in ("through", "diverging"):
-        f = load_track(TRACKS / f"turnout_uk_r245_{route}_facing.yaml", ["turnout.run_out=40 m", "turnout.approach=30 m"])
+        f = load_track(
+            TRACKS / f"turnout_uk_r245_{route}_facing.yaml",
+            ["turnout.run_out=40 m", "turnout.approach=30 m"],
+        )
         t = load_track(TRACKS / f"turnout_uk_r245_{route}_trailing.yaml")
         end = f.alignment.end_m
         assert t.alignment.end_m == pytest.approx(end, abs=1e-9)
@@ -205,7 +207,7 @@ def test_track_refusals_name_the_key(tmp_path, route, extra, expected):
 @pytest.mark.parametrize(
     ("change", "expected"),
     [
-        (("crossing_angle: \"1:9.25\"", "crossing_angle: \"1:0\""), "crossing_angle"),
+        (('crossing_angle: "1:9.25"', 'crossing_angle: "1:0"'), "crossing_angle"),
         (("radius: 245 m", "radius: .nan"), "radius"),
         (("tip_width: 6 mm", "tip_width: 60 mm"), "switch.tip_width"),
         (("hand: left", "hand: up"), "hand"),

@@ -163,8 +163,9 @@ def track_from_dict(
         top.data.get("variable_rails"), source, top.lines, base_dir, end_m, start_m
     ) if turnout is None else turnout[1]  # fmt: skip
     if turnout is not None and rails.zone_m()[0] <= start_m + 1.0:
-        top.fail(f"the turnout's first rail at {rails.zone_m()[0]:g} m is not beyond the run's "
-                 f"start ({start_m:g} m + 1 m): lengthen turnout.approach", key="turnout")  # fmt: skip
+        first = rails.zone_m()[0]
+        top.fail(f"the turnout's first rail at {first:g} m is not beyond the run's start "
+                 f"({start_m:g} m + 1 m): lengthen turnout.approach", key="turnout")  # fmt: skip
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -197,7 +198,7 @@ def _turnout(top: Section, rail: str, inclination, base_dir: Path | None):
         return None
     for key in ("geometry", "variable_rails"):
         if key in top.data:
-            top.fail(f"given with 'turnout', which generates it: remove one of them", key=key)
+            top.fail("given with 'turnout', which generates it: remove one of them", key=key)
     gauge = TRACK.read(top, "gauge")
     geometry, rails, _ = turnout_from_dict(
         top.data["turnout"], top.source, top.lines, base_dir, rail, inclination, gauge

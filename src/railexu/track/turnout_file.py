@@ -143,7 +143,7 @@ def _placed_rail(rail: str, inclination, gauge_m: float, sec: Section):
     if abs(pair.rail_cant_rad) > 1e-12:
         sec.fail(f"the track's rail {rail!r} is turned by {pair.rail_cant_rad:.4f} rad at this "
                  "inclination: a turnout needs a rail profile given at its inclination (the "
-                 "crossing's slices are pre-canted: MBench_UIC60 with inclination 1:40)")  # fmt: skip
+                 "crossing's slices are pre-canted: MBench_UIC60 at 1:40)")  # fmt: skip
     return pair
 
 

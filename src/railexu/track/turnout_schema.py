@@ -14,8 +14,8 @@ from railexu.inputs import OPTIONAL, Field, Schema
 TURNOUT = Schema(
     "turnout",
     (
-        Field("design", "the turnout design file (YAML, tracks/turnouts/), relative to this "
-              "file, or a shipped design's name", "text"),
+        Field("design", "the turnout design file (YAML, e.g. tracks/turnouts/), relative to "
+              "this file", "text"),
         Field("route", "through (straight) or diverging (the switch curve)", "text",
               choices=("through", "diverging")),
         Field("direction", "facing: switch toe first; trailing: crossing first", "text",
