@@ -13,8 +13,9 @@ seen from the toe with the diverging route leaving to the ``hand`` side:
   (``+g/2``): the intersection of the gauge lines (IP), on the circle or on the straight leg.
 
 For the UK 56E1-R245-1:9.25 design the circle reaches 1:9.25 at 26.38 m from the toe and the
-IP lies 0.107 m further on the straight leg, 26.49 m from the toe: the circle of R 245 m and the
-1:9.25 crossing fit each other (a tangential circle through the IP would give 1:9.21).
+IP lies 0.107 m further on the straight leg: 26.49 m from the toe along the diverging route,
+26.52 m along the through route. The circle of R 245 m and the 1:9.25 crossing fit each other
+(a tangential circle through the IP would cross at 1:9.21).
 
 Sides: in a facing move the switch and the crossing that a route runs over lie on the hand side
 for the through route (its straight blade against the curved stock rail, then the crossing's
@@ -29,7 +30,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-#: Positions along a route that the zone and the outputs need.
 _ROUTES = ("through", "diverging")
 _DIRECTIONS = ("facing", "trailing")
 
