@@ -88,6 +88,12 @@ class ZonedProfile:
                 return p
         return None
 
+    def is_plain_over(self, lo_m: float, hi_m: float) -> bool:
+        """Whether ``[lo, hi]`` lies outside every panel: the surface is the plain rail all
+        along it (a station's effective section there is the plain rail's, the same at every
+        such station: a table store may keep it once)."""
+        return all(hi_m < p.range_m[0] or lo_m > p.range_m[1] for p in self.panels)
+
     def curves_at(self, s_m: float) -> list[np.ndarray]:
         """The curves ``(m, 2)`` [m] at ``s``: the panel's (shifted) or the plain rail."""
         p = self.panel_at(float(s_m))
