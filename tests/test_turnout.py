@@ -20,7 +20,7 @@ import pytest
 from railexu.contact.placement import place_wheel_rail
 from railexu.contact.variable_tables import station_tables
 from railexu.errors import InputError
-from railexu.profiles import rail_profile
+from railexu.profiles import ProfileError, rail_profile
 from railexu.profiles.variable import ProfileSlices, VariableProfile
 from railexu.profiles.variable.switch_panel import (
     SwitchPlaning,
@@ -225,3 +225,19 @@ def test_design_refusals_name_the_file_line_and_key(tmp_path, change, expected):
         load_track(p)
     message = str(err.value)
     assert "d.yaml" in message and expected in message, message
+
+
+def test_zoned_profile_panels_and_plain_stretches():
+    """Panels must not overlap (refused, naming both); the plain stretches between them are
+    reported as such (a table store may keep their one table once)."""
+    plain = _plain_points()
+    a = VariableProfile(_uniform_slices(plain, [0.0, 1.0], "a"))
+    b = VariableProfile(_uniform_slices(plain, [-0.5, 0.5], "b"))
+    zoned = ZonedProfile([Panel(b, 2.5), Panel(a)], plain, "z")
+    assert zoned.s_range_m == (0.0, 3.0)
+    assert zoned.is_plain_over(1.01, 1.99)
+    assert not zoned.is_plain_over(0.95, 1.5)
+    assert not zoned.is_plain_over(1.5, 2.0)
+    assert zoned.panel_at(1.5) is None and zoned.panel_at(2.2).s0_m == 2.5
+    with pytest.raises(ProfileError, match="overlap"):
+        ZonedProfile([Panel(a), Panel(b, 1.2)], plain, "z")
