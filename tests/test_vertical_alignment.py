@@ -153,6 +153,8 @@ def test_measured_profile_recovers_a_vertical_curve(tmp_path):
             _stations({"position": 0, "elevation": 0}, {"position": 100, "elevation": 1e5}),
             "elevation",
         ),
+        # a misspelt selector: the other keys depend on it, so the error names the misspelling
+        ({"tpye": "gradient", "gradient": "5 per mille"}, "'tpye' is written here"),
     ],
 )
 def test_bad_vertical_input_is_refused_with_its_place(vertical, words):

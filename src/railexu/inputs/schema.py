@@ -248,14 +248,14 @@ def _integer(sec: Section, f: Field) -> int | None:
 
 def _boolean(sec: Section, f: Field) -> bool:
     if f.required and f.key not in sec.data:
-        sec.fail(f"missing key {f.key!r}: expected true or false")
+        sec.missing(f.key, "true or false")
     return sec.boolean(f.key, default=bool(f.default) if not f.required else False)
 
 
 def _text_list(sec: Section, f: Field) -> tuple[str, ...]:
     default = () if f.default in (REQUIRED, OPTIONAL) else f.default
     if f.required and f.key not in sec.data:
-        sec.fail(f"missing key {f.key!r}: expected a list of text values")
+        sec.missing(f.key, "a list of text values")
     values = sec.string_list(f.key, default=default)
     choices = f.allowed_choices()
     for v in values:
@@ -279,7 +279,7 @@ def _model(sec: Section, f: Field) -> tuple[str, dict[str, Any]]:
     assert f.models is not None
     raw = sec.data.get(f.key, f.default)
     if raw is REQUIRED:
-        sec.fail(f"missing key {f.key!r}: expected one of {', '.join(f.models)}")
+        sec.missing(f.key, f"one of {', '.join(f.models)}")
     if isinstance(raw, str):
         raw = {f.selector: raw}
     if raw is None:
@@ -314,7 +314,7 @@ def _inclination(sec: Section, f: Field) -> tuple[Any, float]:
 
     raw = sec.data.get(f.key, f.default)
     if raw is REQUIRED:
-        sec.fail(f"missing key {f.key!r}: expected a ratio like '1:40' or an angle")
+        sec.missing(f.key, "a ratio like '1:40' or an angle")
     angle = _ratio_angle(raw)
     if angle is None:
         try:
@@ -330,7 +330,7 @@ def _number_list(sec: Section, f: Field) -> tuple[float, ...]:
     """A list of at least two numbers (a table column), each with the field's unit and range."""
     if f.key not in sec.data:
         if f.required:
-            sec.fail(f"missing key {f.key!r}: expected a list of values in {f.unit}")
+            sec.missing(f.key, f"a list of values in {f.unit}")
         return () if f.default in (REQUIRED, OPTIONAL) else tuple(f.default)
     raw = sec.data[f.key]
     if not isinstance(raw, list | tuple) or len(raw) < 2:

@@ -86,6 +86,20 @@ class Section:
             raise InputError(message, source=origin[0], line=origin[1], key=dotted(path))
         raise InputError(message, source=self.source, line=self.line(key), key=dotted(path))
 
+    def missing(self, key: str, expected: str) -> NoReturn:
+        """Raise the error for a required ``key`` that is absent. Where a key written in this
+        mapping looks like a misspelling of it (``tpye`` for ``type``), the error names that key
+        and its line: such a section is often one whose other keys depend on the missing one, so
+        the unknown-key check has not run yet."""
+        for written in self.data:
+            if isinstance(written, str) and written != key and suggest(written, [key]):
+                self.fail(
+                    f"missing key {key!r}: expected {expected}. {written!r} is written here: "
+                    f"a misspelling of {key!r}?",
+                    key=written,
+                )
+        self.fail(f"missing key {key!r}: expected {expected}")
+
     # -- access ---------------------------------------------------------------------------------
     def has(self, key: str) -> bool:
         return key in self.data
@@ -133,7 +147,7 @@ class Section:
             required = default is None
         if key not in self.data:
             if required:
-                self.fail(f"missing key {key!r}: expected a value in {unit}")
+                self.missing(key, f"a value in {unit}")
             return float(default) if default is not None else math.nan
         return self._check_number(self.data[key], key, unit, minimum, maximum, positive)
 
@@ -166,7 +180,7 @@ class Section:
         components of a mapping are 0)."""
         if key not in self.data:
             if default is None:
-                self.fail(f"missing key {key!r}: expected {n} values in {unit}")
+                self.missing(key, f"{n} values in {unit}")
             return tuple(float(v) for v in default)
         raw = self.data[key]
         minimum = 0.0 if nonnegative else None
@@ -190,7 +204,7 @@ class Section:
     ) -> str:
         if key not in self.data:
             if default is None:
-                self.fail(f"missing key {key!r}: expected a text value")
+                self.missing(key, "a text value")
             return default
         value = self.data[key]
         if isinstance(value, int | float) and not isinstance(value, bool) and choices is None:
@@ -214,7 +228,7 @@ class Section:
     def integer(self, key: str, *, default: int | None = None, minimum: int | None = None) -> int:
         if key not in self.data:
             if default is None:
-                self.fail(f"missing key {key!r}: expected an integer")
+                self.missing(key, "an integer")
             return default
         value = self.data[key]
         if isinstance(value, bool) or not isinstance(value, int):
