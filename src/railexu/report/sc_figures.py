@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 if TYPE_CHECKING:
     from railexu.results import TimeSeries
 
-_RAILS = ("rail 1 (nose)", "rail 2 (wing rail)")
+_RAILS = ("rail 1 (nose; switch: blade)", "rail 2 (wing rail; switch: stock rail)")
 
 
 def sc_sides(ts: TimeSeries) -> list[str]:
