@@ -25,6 +25,7 @@ from railexu.profiles.variable import ProfileSlices, VariableProfile
 from railexu.profiles.variable.switch_panel import (
     SwitchPlaning,
     divergence_m,
+    extended_gauge_face,
     switch_panel_slices,
 )
 from railexu.profiles.variable.zoned import Panel, ZonedProfile
@@ -112,20 +113,22 @@ def test_switch_panel_follows_the_planing_rule():
     """Blade width w = w_tip + d(s) (d = R (1 - cos(s/R))), its top lowered by
     drop_tip (1 - s/L_rise), the stock rail moved by d(s) and cut at w_tip; the plain rail
     before the undercut and beyond the stock rail's reach."""
-    plain = _plain_points()
+    head = _plain_points()
+    plain = extended_gauge_face(head)  # the gauge face continued down to 45 mm
+    assert plain[0, 1] == pytest.approx(float(np.min(head[:, 1])) + 0.045, abs=1e-9)
     radius = 245.0 + 0.5 * GAUGE
     rule = SwitchPlaning()
-    profile = VariableProfile(switch_panel_slices(plain, radius, rule, "test"))
-    y_g, y_f = plain[0, 0], plain[-1, 0]
+    profile = VariableProfile(switch_panel_slices(head, radius, rule, "test"))
+    y_g, y_f = head[0, 0], head[-1, 0]
     before = profile.curves_at(-0.5)
-    assert len(before) == 1 and before[0][0, 0] == pytest.approx(y_g, abs=1e-12)
+    assert len(before) == 1 and before[0][0, 0] == pytest.approx(plain[0, 0], abs=1e-12)
     _assert_on(before[0], plain)
     for s in (0.0, 1.0, 2.0, 3.0, 5.0):  # at slices: exact
         d = radius * (1 - math.cos(s / radius))
         assert float(divergence_m(s, radius)) == pytest.approx(d, rel=1e-12)
         blade, stock = profile.curves_at(s)
         w = min(rule.tip_width_m + d, y_f - y_g)
-        assert blade[0, 0] == pytest.approx(y_g, abs=1e-12)
+        assert blade[0, 0] == pytest.approx(plain[0, 0], abs=1e-12)
         assert blade[-1, 0] == pytest.approx(y_g + w, abs=1e-9)
         drop = rule.tip_drop_m * max(0.0, 1 - s / rule.rise_length_m)
         z_plain = np.interp(blade[:, 0], plain[:, 0], plain[:, 1])

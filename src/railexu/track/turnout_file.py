@@ -19,7 +19,11 @@ from railexu.contact.placement import place_wheel_rail
 from railexu.inputs import InputError, Section, load_yaml, resolve_file
 from railexu.profiles import ProfileError, rail_profile
 from railexu.profiles.variable import ProfileSlices, VariableProfile, read_slcs, read_yaml_slices
-from railexu.profiles.variable.switch_panel import SwitchPlaning, switch_panel_slices
+from railexu.profiles.variable.switch_panel import (
+    SwitchPlaning,
+    extended_gauge_face,
+    switch_panel_slices,
+)
 from railexu.profiles.variable.zoned import Panel, ZonedProfile
 from railexu.track.turnout import RouteLayout, TurnoutGeometry, parse_crossing_rate, route_layout
 from railexu.track.turnout_schema import DESIGN, TURNOUT
@@ -100,7 +104,7 @@ def turnout_from_dict(
     )  # fmt: skip
     pair = _placed_rail(rail, inclination, gauge_m, sec)
     y = np.arange(pair.rail.y_min, pair.rail.y_max, RAIL_POINT_STEP_M)
-    plain = np.column_stack([y, -pair.rail.height(y)])
+    plain = extended_gauge_face(np.column_stack([y, -pair.rail.height(y)]))
     panels = []
     if t["panels"] in ("both", "switch"):
         try:

@@ -96,6 +96,34 @@ def divergence_m(s_m: np.ndarray | float, radius_m: float) -> np.ndarray:
     return radius_m * (1.0 - np.cos(np.minimum(s / radius_m, 0.5 * math.pi)))
 
 
+#: Depth below the rail's top to which the gauge face is continued [m] (a flange reaches ~30 mm
+#: below the tread; railexu's assumption, see :func:`extended_gauge_face`).
+GAUGE_FACE_DEPTH_M = 0.045
+
+
+def extended_gauge_face(points_m: np.ndarray, depth_m: float = GAUGE_FACE_DEPTH_M) -> np.ndarray:
+    """The rail's points with its gauge face continued downwards at its end slope.
+
+    Rail profiles end some 13 mm below the top (MBench_UIC60: 13.3 mm), and the kernel's table
+    continues flat beyond a curve's end. A blade lowered by 10 mm would meet a flange there on
+    that flat continuation (a false corner: forces of several hundred kN in the diverging route);
+    the real blade's gauge face runs on down to its foot. The face is continued as a straight
+    line with the slope of the profile's last 0.5 mm (at least 5:1, steeper than any flange
+    flank) down to ``depth_m`` below the top, in 0.2 mm steps.
+    """
+    p = np.asarray(points_m, dtype=float)
+    z_top = float(np.min(p[:, 1]))
+    y0, z0 = float(p[0, 0]), float(p[0, 1])
+    k = int(np.searchsorted(p[:, 0], y0 + 5.0e-4))
+    slope = max((z0 - float(p[k, 1])) / max(float(p[k, 0]) - y0, 1e-9), 5.0)
+    depth = z_top + depth_m - z0
+    if depth <= 0.0:
+        return p
+    dz = np.arange(depth, 0.0, -2.0e-4)
+    extra = np.column_stack([y0 - dz / slope, z0 + dz])
+    return np.vstack((extra, p))
+
+
 def switch_panel_slices(
     rail_points_m: np.ndarray, radius_m: float, planing: SwitchPlaning, source: str
 ) -> ProfileSlices:
@@ -115,6 +143,8 @@ def switch_panel_slices(
     p = np.asarray(rail_points_m, dtype=float)
     if p.ndim != 2 or p.shape[0] < 4 or not np.all(np.diff(p[:, 0]) > 0):
         raise ProfileError(f"{source}: the plain rail's points must be a graph z(y), y increasing")
+    y_head = float(p[0, 0])  # the head's gauge-side edge: the blade's width is measured from it
+    p = extended_gauge_face(p)
     if not (math.isfinite(radius_m) and radius_m >= 50.0):
         raise ProfileError(f"{source}: switch radius {radius_m} m: expected >= 50 m")
     s_end = radius_m * math.acos(1.0 - planing.stock_reach_m / radius_m)
@@ -128,7 +158,7 @@ def switch_panel_slices(
         elif k == len(stations) - 1:
             pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan, math.nan]
         else:
-            pts, feat = _panel_section(p, float(s), radius_m, planing)
+            pts, feat = _panel_section(p, y_head, float(s), radius_m, planing)
         points.append(pts)
         features.append(feat)
         names.append(f"switch panel s = {s:.3f} m")
@@ -142,10 +172,11 @@ def switch_panel_slices(
 
 
 def _panel_section(
-    p: np.ndarray, s: float, radius_m: float, planing: SwitchPlaning
+    p: np.ndarray, y_g: float, s: float, radius_m: float, planing: SwitchPlaning
 ) -> tuple[np.ndarray, list[float]]:
-    """Blade, joint and stock rail at ``s`` >= 0 from the toe, and the curve's features."""
-    y_g, y_f = float(p[0, 0]), float(p[-1, 0])
+    """Blade and stock rail at ``s`` >= 0 from the toe (``y_g``: the head's gauge-side edge),
+    and the curve's features."""
+    y_f = float(p[-1, 0])
     d = float(divergence_m(s, radius_m))
     w = min(planing.tip_width_m + d, y_f - y_g)
     drop = planing.tip_drop_m * max(0.0, 1.0 - s / planing.rise_length_m)
@@ -170,4 +201,4 @@ def _cut(p: np.ndarray, lo: float | None = None, hi: float | None = None) -> np.
     return np.vstack((ends[:1], inside, ends[1:]))
 
 
-__all__ = ["SwitchPlaning", "divergence_m", "switch_panel_slices"]
+__all__ = ["SwitchPlaning", "divergence_m", "extended_gauge_face", "switch_panel_slices"]
