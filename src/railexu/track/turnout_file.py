@@ -104,12 +104,13 @@ def turnout_from_dict(
     )  # fmt: skip
     pair = _placed_rail(rail, inclination, gauge_m, sec)
     y = np.arange(pair.rail.y_min, pair.rail.y_max, RAIL_POINT_STEP_M)
-    plain = extended_gauge_face(np.column_stack([y, -pair.rail.height(y)]))
+    head = np.column_stack([y, -pair.rail.height(y)])
+    plain = extended_gauge_face(head)  # as the switch panel's slices continue it
     panels = []
     if t["panels"] in ("both", "switch"):
         try:
             planing = SwitchPlaning(**{f"{k}_m": v for k, v in design["switch"].items()})
-            sw = switch_panel_slices(plain, geometry.switch_rail_radius_m(t["route"]), planing,
+            sw = switch_panel_slices(head, geometry.switch_rail_radius_m(t["route"]), planing,
                                      f"{design['source']} (switch panel)")  # fmt: skip
         except ProfileError as exc:
             dsec.fail(str(exc), key="switch")
