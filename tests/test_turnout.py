@@ -120,9 +120,14 @@ def test_switch_panel_follows_the_planing_rule():
     rule = SwitchPlaning()
     profile = VariableProfile(switch_panel_slices(head, radius, rule, "test"))
     y_g, y_f = head[0, 0], head[-1, 0]
-    before = profile.curves_at(-0.5)
-    assert len(before) == 1 and before[0][0, 0] == pytest.approx(plain[0, 0], abs=1e-12)
-    _assert_on(before[0], plain)
+    before = profile.curves_at(-0.5)  # before the undercut: the plain rail in two pieces
+    assert len(before) == 2 and before[0][0, 0] == pytest.approx(plain[0, 0], abs=1e-12)
+    assert before[1][0, 0] - before[0][-1, 0] == pytest.approx(1e-6, abs=1e-9)
+    for piece in before:
+        _assert_on(piece, plain)
+    half = profile.curves_at(-0.5 * rule.runout_m)[0]  # the undercut's run-in: half the drop
+    z_half = np.interp(half[:, 0], plain[:, 0], plain[:, 1])
+    np.testing.assert_allclose(half[:, 1] - z_half, 0.5 * rule.tip_drop_m, atol=5e-6)
     for s in (0.0, 1.0, 2.0, 3.0, 5.0):  # at slices: exact
         d = radius * (1 - math.cos(s / radius))
         assert float(divergence_m(s, radius)) == pytest.approx(d, rel=1e-12)

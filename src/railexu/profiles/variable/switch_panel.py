@@ -19,9 +19,12 @@ from the switch toe along the route), with ``y_g`` the plain rail head's gauge-s
   ``drop(s) = drop_tip max(0, 1 - s / L_rise)`` (a tip below the wheels, rising to full height
   over ``L_rise``);
 - the **stock rail** is the plain rail moved to the field side by ``d(s)`` and cut at
-  ``y_g + w_tip`` of its own head (the undercut), from ``-runout`` before the toe (the undercut
-  runs in over ``runout``); it leaves the slices where ``d(s)`` exceeds ``stock_reach`` (beyond
-  any wheel's field face).
+  ``y_g + w_tip`` of its own head (the undercut); it leaves the slices where ``d(s)`` exceeds
+  ``stock_reach`` (beyond any wheel's field face);
+- ahead of the toe, over ``runout``, the undercut runs in: the head's gauge-side ``w_tip`` (the
+  blade's place) is planed down from the rail's height to ``drop_tip`` at the toe, where the
+  blade's tip takes it over (the stock rail's own part is the same cut head throughout, so the
+  surface does not morph across the cut).
 
 Each slice is one polyline ``z(y)``: blade, then stock rail (the blade's back against the stock
 rail's cut face, 1 um apart, or apart once the blade has its full width). Feature points make
@@ -153,9 +156,7 @@ def switch_panel_slices(
     stations = [-planing.runout_m, *regular, regular[-1] + 0.01]  # then the plain rail
     points, features, names = [], [], []
     for k, s in enumerate(stations):
-        if k == 0:
-            pts, feat = p.copy(), [math.nan, math.nan, math.nan, 0.0, math.inf]
-        elif k == len(stations) - 1:
+        if k == len(stations) - 1:
             pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan, math.nan]
         else:
             pts, feat = _panel_section(p, y_head, float(s), radius_m, planing)
@@ -179,7 +180,9 @@ def _panel_section(
     y_f = float(p[-1, 0])
     d = float(divergence_m(s, radius_m))
     w = min(planing.tip_width_m + d, y_f - y_g)
-    drop = planing.tip_drop_m * max(0.0, 1.0 - s / planing.rise_length_m)
+    drop = planing.tip_drop_m * (
+        max(0.0, 1.0 - s / planing.rise_length_m) if s >= 0.0 else 1.0 + s / planing.runout_m
+    )
     blade = _cut(p, hi=y_g + w)
     blade[:, 1] += drop
     stock = _cut(p, lo=y_g + planing.tip_width_m)
