@@ -45,8 +45,8 @@ SWITCH = Schema(
               "assumption)", unit="m", default=0.010, minimum=0.0, maximum=0.05),
         Field("rise_length", "length over which the blade rises linearly to full height "
               "(railexu's assumption)", unit="m", default=3.5, minimum=0.1, maximum=30.0),
-        Field("runout", "length ahead of the toe over which the stock rail's undercut runs in "
-              "(railexu's assumption)", unit="m", default=0.2, minimum=0.01, maximum=5.0),
+        Field("runout", "how far ahead of the toe the switch panel's slices begin (the plain "
+              "rail there)", unit="m", default=0.2, minimum=0.01, maximum=5.0),
         Field("stock_reach", "divergence beyond which the other route's rail is dropped "
               "(beyond any wheel's field face; railexu's assumption)", unit="m", default=0.13,
               minimum=0.02, maximum=1.0),

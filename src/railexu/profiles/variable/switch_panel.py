@@ -14,24 +14,25 @@ from the switch toe along the route), with ``y_g`` the plain rail head's gauge-s
   radius of the curved one of the two rails (a tangential switch: both gauge lines touch at
   the toe);
 - the **blade** is the plain rail's head on the gauge side of ``y_g + w(s)``, its width
-  ``w(s) = min(w_tip + d(s), W)`` (its back lies against the stock rail, whose gauge side is
-  undercut by ``w_tip`` to take the blade's tip), lowered by
+  ``w(s) = min(w_tip + d(s), W)`` (its back lies against the stock rail's undercut web, its tip
+  ``w_tip`` wide under the stock rail's head), lowered by
   ``drop(s) = drop_tip max(0, 1 - s / L_rise)`` (a tip below the wheels, rising to full height
   over ``L_rise``);
-- the **stock rail** is the plain rail moved to the field side by ``d(s)`` and cut at
-  ``y_g + w_tip`` of its own head (the undercut); it leaves the slices where ``d(s)`` exceeds
-  ``stock_reach`` (beyond any wheel's field face);
-- ahead of the toe, over ``runout``, the undercut runs in: the head's gauge-side ``w_tip`` (the
-  blade's place) is planed down from the rail's height to ``drop_tip`` at the toe, where the
-  blade's tip takes it over (the stock rail's own part is the same cut head throughout, so the
-  surface does not morph across the cut).
+- the **stock rail** is the plain rail moved to the field side by ``d(s)``, its head intact
+  (the undercut lies below it); it leaves the slices where ``d(s)`` exceeds ``stock_reach``
+  (beyond any wheel's field face);
+- the surface a wheel meets is the top of the two: the blade where it is higher (its gauge
+  face emerges in front of the stock rail's as ``d`` grows, its top rises above the stock
+  rail's head), the stock rail elsewhere. Near the toe the lowered blade does not show at all.
 
-Each slice is one polyline ``z(y)``: blade, then stock rail (the blade's back against the stock
-rail's cut face, 1 um apart, or apart once the blade has its full width). Feature points make
-them two separate rails whose edges stay edges (:mod:`railexu.profiles.variable.interpolate`),
-so that no spline runs across the joint's step. Feature columns: blade start, blade end, a
-column always absent (the joint is no part), stock start, stock end; NaN where a rail is
-absent (the blade before the toe, the stock rail beyond ``stock_reach``).
+Each slice is one polyline ``z(y)``: the blade's visible part, then the stock rail's (1 um
+apart where they meet). Feature points make them two separate rails whose edges stay edges
+(:mod:`railexu.profiles.variable.interpolate`), so that no spline runs across the step where
+they meet. Feature columns: blade start, blade end, a column always absent (the joint is no
+part), stock start, stock end; NaN where a rail is absent (the blade where it does not show,
+the stock rail beyond ``stock_reach``). The rail's gauge face is continued downwards
+(:func:`extended_gauge_face`). ``runout``: the zone begins that far ahead of the toe (the
+plain rail there).
 """
 
 from __future__ import annotations
@@ -44,6 +45,8 @@ import numpy as np
 from railexu.profiles.core import ProfileError
 from railexu.profiles.variable.slices import ProfileSlices, arc_length, check_slices
 
+#: Narrowest blade that shows above the stock rail [m] (a narrower strip is left out).
+MIN_VISIBLE_M = 2.0e-4
 #: Width of the joint between the blade's back and the stock rail's cut face [m] (a graph
 #: ``z(y)`` needs ``y`` to increase; 1 um is far below the kernel's 0.1 mm table step).
 JOINT_WIDTH_M = 1.0e-6
@@ -61,8 +64,8 @@ class SwitchPlaning:
         rise_length_m: length over which the blade rises linearly to full height [m] (3.5 m:
             the blade's head is then ~30 mm wide on an R 245 m switch, wide enough to carry a
             wheel; railexu's assumption).
-        runout_m: length ahead of the toe over which the stock rail's undercut runs in [m]
-            (0.2 m: railexu's assumption).
+        runout_m: how far ahead of the toe the slices begin (the plain rail there) [m] (0.2 m:
+            railexu's assumption).
         stock_reach_m: divergence beyond which the other route's rail is dropped from the
             slices [m] (0.13 m: its cut edge then lies > 85 mm field-side of the rail's crown,
             beyond the field face of a wheel displaced 10 mm; railexu's assumption).
@@ -175,24 +178,36 @@ def switch_panel_slices(
 def _panel_section(
     p: np.ndarray, y_g: float, s: float, radius_m: float, planing: SwitchPlaning
 ) -> tuple[np.ndarray, list[float]]:
-    """Blade and stock rail at ``s`` >= 0 from the toe (``y_g``: the head's gauge-side edge),
-    and the curve's features."""
+    """The top surface at ``s`` from the toe (``y_g``: the head's gauge-side edge) as blade and
+    stock rail, and the curve's features (the blade absent where it does not show)."""
     y_f = float(p[-1, 0])
     d = float(divergence_m(s, radius_m))
     w = min(planing.tip_width_m + d, y_f - y_g)
-    drop = planing.tip_drop_m * (
-        max(0.0, 1.0 - s / planing.rise_length_m) if s >= 0.0 else 1.0 + s / planing.runout_m
-    )
+    drop = planing.tip_drop_m * max(0.0, 1.0 - max(s, 0.0) / planing.rise_length_m)
     blade = _cut(p, hi=y_g + w)
     blade[:, 1] += drop
-    stock = _cut(p, lo=y_g + planing.tip_width_m)
+    stock = p.copy()
     stock[:, 0] += d
+    y_s = _stock_on_top_from(blade, stock)
+    if y_s - blade[0, 0] < MIN_VISIBLE_M:  # the blade hidden under the stock rail's head
+        return stock, [math.nan, math.nan, math.nan, 0.0, math.inf]
+    blade = _cut(blade, hi=y_s)
+    stock = _cut(stock, lo=min(y_s + JOINT_WIDTH_M, float(stock[-1, 0]) - MIN_VISIBLE_M))
     blade_len = float(arc_length(blade)[-1])
-    if stock[0, 0] - blade[-1, 0] < JOINT_WIDTH_M:  # the blade's back against the cut face
-        stock[0, 0] = blade[-1, 0] + JOINT_WIDTH_M
-        stock = np.vstack((stock[:1], stock[1:][stock[1:, 0] > stock[0, 0]]))
     joint_len = float(np.hypot(*(stock[0] - blade[-1])))  # not a part: two separate rails
     return np.vstack((blade, stock)), [0.0, blade_len, math.nan, blade_len + joint_len, math.inf]
+
+
+def _stock_on_top_from(blade: np.ndarray, stock: np.ndarray) -> float:
+    """The lateral position from which the stock rail is the top surface (z down: smaller is
+    higher): the first point of their common range where the stock rail is at least as high
+    as the blade, or the blade's back if the blade is higher all across."""
+    lo, hi = float(stock[0, 0]), float(blade[-1, 0])
+    if hi <= lo:
+        return hi
+    y = np.linspace(lo, hi, max(2, int((hi - lo) / 1.0e-5) + 1))
+    on_top = np.interp(y, stock[:, 0], stock[:, 1]) <= np.interp(y, blade[:, 0], blade[:, 1])
+    return float(y[int(np.argmax(on_top))]) if np.any(on_top) else hi
 
 
 def _cut(p: np.ndarray, lo: float | None = None, hi: float | None = None) -> np.ndarray:
