@@ -103,6 +103,21 @@ def turnout_from_dict(
         crossing_range_m=(float(facing.positions_m[0]), float(facing.positions_m[-1])),
     )  # fmt: skip
     pair = _placed_rail(rail, inclination, gauge_m, sec)
+    zoned, start = _zoned_profile(design, t, layout, crossing, pair, geometry, sec)
+    step = t["station_step"] if t["station_step"] is not None else design["station_step"]
+    side = {layout.side: zoned}
+    rails = VariableRails(
+        left=side.get("left"), right=side.get("right"), start_m=start,
+        station_step_m=step,
+        x_max_m=design["effective_length"],
+    )  # fmt: skip
+    geometry_section = {"type": "sections", "sections": [dict(p) for p in layout.sections]}
+    return geometry_section, rails, layout
+
+
+def _zoned_profile(design, t, layout, crossing, pair, geometry, sec) -> tuple[ZonedProfile, float]:
+    """The route side's panels (switch from the track's rail, crossing slices) along the
+    zone, the plain rail between, and the track distance of the zone's first slice [m]."""
     y = np.arange(pair.rail.y_min, pair.rail.y_max, RAIL_POINT_STEP_M)
     head = np.column_stack([y, -pair.rail.height(y)])
     plain = extended_gauge_face(head)  # as the switch panel's slices continue it
@@ -113,7 +128,7 @@ def turnout_from_dict(
             sw = switch_panel_slices(head, geometry.switch_rail_radius_m(t["route"]), planing,
                                      f"{design['source']} (switch panel)")  # fmt: skip
         except ProfileError as exc:
-            dsec.fail(str(exc), key="switch")
+            design["section"].fail(str(exc), key="switch")
         sw = reversed_slices(sw) if layout.reversed else sw
         panels.append(Panel(VariableProfile(sw), layout.toe_m))
     if t["panels"] in ("both", "crossing"):
@@ -126,14 +141,7 @@ def turnout_from_dict(
         zoned = ZonedProfile(panels, plain, f"{design['source']} ({t['route']}, {t['direction']})")
     except ProfileError as exc:
         sec.fail(str(exc), key="design")
-    step = t["station_step"] if t["station_step"] is not None else design["station_step"]
-    side = {layout.side: zoned}
-    rails = VariableRails(
-        left=side.get("left"), right=side.get("right"), start_m=start, station_step_m=step,
-        x_max_m=design["effective_length"],
-    )  # fmt: skip
-    geometry_section = {"type": "sections", "sections": [dict(p) for p in layout.sections]}
-    return geometry_section, rails, layout
+    return zoned, start
 
 
 def _placed_rail(rail: str, inclination, gauge_m: float, sec: Section):
