@@ -50,7 +50,7 @@ SWITCH = Schema(
         Field("stock_reach", "divergence beyond which the other route's rail is dropped "
               "(beyond any wheel's field face; railexu's assumption)", unit="m", default=0.13,
               minimum=0.02, maximum=1.0),
-        Field("slice_step", "spacing of the generated slices", unit="m", default=0.25,
+        Field("slice_step", "spacing of the generated slices", unit="m", default=0.025,
               minimum=0.01, maximum=2.0),
     ),
     "The switch panel's blade and stock rail, generated from the track's rail "
