@@ -12,10 +12,12 @@ for v in hbbins_empty hbbins_loaded manchester_coach_extended; do
     # the seed scenario: 10 m/s, 2 mm initial offset, 150 m, ideal straight track
     railexu run "$v" --out "$out/${v}_seed" --quiet --plots none || true
     # R 300 m, 150 mm cant (EN 14363 small-radius zone) at 80 km/h: 101 mm cant deficiency
-    railexu run "$v" --track curve_r300 --speed '80 km/h' --distance 640 --initial-lateral 0 \
+    # (615 m and 595 m: the rearmost wheelset starts 1 m into the track, the coach's leading one
+    # 22.6 m ahead of it, and the run must end before the geometry does)
+    railexu run "$v" --track curve_r300 --speed '80 km/h' --distance 615 --initial-lateral 0 \
         --out "$out/${v}_r300" --quiet --plots none || true
     # R 600 m, 100 mm cant at 100 km/h: 97 mm cant deficiency
-    railexu run "$v" --track curve_r600 --speed '100 km/h' --distance 620 --initial-lateral 0 \
+    railexu run "$v" --track curve_r600 --speed '100 km/h' --distance 595 --initial-lateral 0 \
         --out "$out/${v}_r600" --quiet --plots none || true
     # linear critical speed, nonlinear bisection (4 mm disturbance, 3 mm threshold, 300 m per
     # run, 1 m/s bracket) and ramp (0.5 m/s^2 down from the top speed): the wagons up to

@@ -54,7 +54,13 @@ from railexu.model.forces import (
 )
 from railexu.model.sc_tables import sc_kernel_fields
 from railexu.model.statics import StaticSolution, attachment_point, static_equilibrium
-from railexu.model.suspension_forces import KernelElement, kernel_arrays, kernel_elements
+from railexu.model.suspension_forces import (
+    SI_INTERNAL,
+    KernelElement,
+    element_deflection,
+    kernel_arrays,
+    kernel_elements,
+)
 from railexu.model.vertical_forces import VerticalForces
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.operation.traction import Traction
@@ -71,9 +77,14 @@ from railexu.vehicle.vehicle import (
     linear_part,
 )
 
-#: A suspension element's point on a wheelset more than this above or below the axle is on
-#: the wheelset's axlebox: its moment about the axle's centre passes into the axle [m].
-AXLE_HEIGHT_TOLERANCE_M = 1.0e-6
+#: A wheelset whose roll moment at the start is out of balance by more than this share of
+#: its static wheel load times the half distance of its contact points is pressed again with
+#: loads that balance it (:meth:`VehicleModel._balance_start_loads`; railexu's choice: on level
+#: track the residual is round-off and nothing changes).
+START_ROLL_BALANCE_SHARE = 0.02
+#: An internal coordinate (series branch) is started relaxed at the start's geometry where that
+#: moves it by more than this from 0 [m] (:meth:`VehicleModel._relaxed_internal_coordinates`).
+START_INTERNAL_TOLERANCE_M = 1.0e-6
 #: Distance of the rearmost wheelset from the start of the run (the track's ``start``, 0 by
 #: default) at t = 0 [m].
 START_MARGIN_M = 1.0
@@ -202,12 +213,32 @@ class VehicleModel:
                     )
 
         # --- wheelsets pressed onto the rails at the initial lateral offset
+        #: the wheel loads the wheelsets were pressed with at the start [N], (n_ws, 2)
+        self.start_wheel_loads_N = np.array(self.statics.wheel_loads_N, dtype=float)
+        self._press_wheelsets()
+
+        # --- the Exudyn system
+        self.SC = exu.SystemContainer()
+        self.mbs = self.SC.AddSystem()
+        #: the internal coordinates at the start [m] (None: zeros, the nominal geometry)
+        self.start_internal_m: np.ndarray | None = None
+        self._build()
+        relaxed = self._relaxed_internal_coordinates()
+        if self._balance_start_loads() or relaxed:
+            self._press_wheelsets()
+            self.SC = exu.SystemContainer()
+            self.mbs = self.SC.AddSystem()
+            self._build()
+
+    def _press_wheelsets(self) -> None:
+        """Every wheelset pressed onto its rails at the initial lateral offset under
+        :attr:`start_wheel_loads_N`, spinning at its free-rolling rate."""
         self.initial_wheelsets = []
         self.initial_spin_rates: list[float] = []
         for ws, geom, loads in zip(
-            vehicle.wheelsets, self.geometries, self.statics.wheel_loads_N, strict=True
+            self.vehicle.wheelsets, self.geometries, self.start_wheel_loads_N, strict=True
         ):
-            cm = WheelsetContactModel(geom, vehicle.contact, self.speed)
+            cm = WheelsetContactModel(geom, self.vehicle.contact, self.speed)
             try:
                 st = press_wheelset(cm, self.initial_lateral_m, 0.0, (loads[0], loads[1]))
             except RuntimeError as exc:
@@ -217,10 +248,68 @@ class VehicleModel:
                 free_rolling_spin_rate(cm, st.lateral_m, st.vertical_m, st.roll_rad, 0.0)
             )
 
-        # --- the Exudyn system
-        self.SC = exu.SystemContainer()
-        self.mbs = self.SC.AddSystem()
-        self._build()
+    def _relaxed_internal_coordinates(self) -> bool:
+        """Set :attr:`start_internal_m` so that every series branch (a damper's bushes, a
+        friction slider's stick spring, an air spring's reservoir) carries no force at the
+        start, as after a long rest, where that moves an internal coordinate by more than
+        :data:`START_INTERNAL_TOLERANCE_M`; True if any moved.
+
+        On level track the nominal geometry is the start's and the internal coordinates are
+        0. On a twisted track the ends of an element separate at ``t = 0`` (the loaded
+        Hbbins' UIC links by 9.9 mm laterally at 4 per mille: the wheelsets are placed with the
+        cant under each, the car body with the cant under its centre); with ``u = 0`` their stick
+        springs would start at 20 kN, twice the links' friction limit, and push the wheelsets
+        sideways in the first step (the empty Hbbins climbed its flange in 5 ms)."""
+        if self.internal_node is None:
+            return False
+        q = np.asarray(self.mbs.systemData.GetODE2Coordinates(), dtype=float)[self.object_ltg]
+        d = self.kernel
+        u = np.zeros(len(self.internal_ltg))
+        first = q.shape[0] - u.shape[0]  # the internal coordinates come last
+        for e in range(d.se_int.shape[0]):
+            iu = int(d.se_int[e, SI_INTERNAL])
+            if iu >= 0:
+                u[iu - first] = element_deflection(e, q, d.qref, d.se_int, d.se_real)
+        if np.max(np.abs(u)) <= START_INTERNAL_TOLERANCE_M:
+            return False
+        self.start_internal_m = u
+        return True
+
+    def _balance_start_loads(self) -> bool:
+        """Move load between each wheelset's wheels so that the contact balances the roll
+        moment on the wheelset at the start, where that residual exceeds
+        :data:`START_ROLL_BALANCE_SHARE` times ``b Q0``; True if any load moved.
+
+        The statics hold on level, untwisted track. A vehicle started on a twisted track (the
+        EN 14363 twist test, ``railexu.assessment.acceptance.twist``) has its springs warped at
+        ``t = 0``: with the statics' loads each wheelset meets a roll moment its contact does
+        not carry (63 kN m on the loaded Hbbins at 4 per mille), rolls on its Hertz contacts
+        (about 200 Hz) within one step and bounces its wheels off the rails. The residual
+        roll moment ``R`` of the compiled forces (contact, suspension, frame) on the wheelset
+        at ``t = 0`` is carried by the loads ``Q_L - R / (2 b)``, ``Q_R + R / (2 b)`` (contact
+        points at ``+-b``, the tape circles; their sum, the vertical balance, unchanged)."""
+        n = self._out.shape[0]
+        q = np.asarray(self.mbs.systemData.GetODE2Coordinates(), dtype=float)
+        qt = np.asarray(self.mbs.systemData.GetODE2Coordinates_t(), dtype=float)
+        if self.start_internal_m is not None:  # the series branches as they will start
+            q[self.internal_ltg] = self.start_internal_m
+        out = np.zeros(n)
+        self.evaluate(q, qt, 0.0, out, self.points.copy(), self.ws_force.copy())
+        moved = False
+        for w, geom in enumerate(self.geometries):
+            b = geom.left.tape_circle_lateral_m
+            q0 = float(np.mean(self.statics.wheel_loads_N[w]))
+            residual = float(out[6 * int(self.kernel.ws_slots[w]) + 3])
+            if abs(residual) > START_ROLL_BALANCE_SHARE * b * q0:
+                shift = -residual / (2.0 * b)  # the contact's moment b (Q_L - Q_R) takes -R
+                self.start_wheel_loads_N[w] += [shift, -shift]
+                moved = True
+        if moved and np.any(self.start_wheel_loads_N <= 0.0):
+            bad = [w.name for w, q_w in zip(self.vehicle.wheelsets, self.start_wheel_loads_N,
+                                             strict=True) if np.any(q_w <= 0.0)]  # fmt: skip
+            raise ModelError(f"wheelsets {bad}: at the start on this track (twisted under the "
+                             "vehicle) a wheel carries no load at rest")  # fmt: skip
+        return moved
 
     # ------------------------------------------------------------------------------------------
     def _pack_tables(self) -> None:
@@ -417,14 +506,14 @@ class VehicleModel:
                 ws.name, ws.mass_kg, ws.inertia_kg_m2, c, rot, [V, 0, 0, 0, 0, spin_rate], d, turn
             )
 
-    def _on_axlebox(self, body: str, p_vehicle) -> bool:
-        """Whether an element's point on ``body`` is on a wheelset's axlebox away from the axle:
-        the body is a wheelset and the declared height differs from its axle's (the nominal
-        radius) by more than :data:`AXLE_HEIGHT_TOLERANCE_M`."""
-        ws = next((w for w in self.vehicle.wheelsets if w.name == body), None)
-        if ws is None:
-            return False
-        return abs(float(p_vehicle[2]) - ws.nominal_radius_m) > AXLE_HEIGHT_TOLERANCE_M
+    def _on_axlebox(self, body: str) -> bool:
+        """Whether an element's point on ``body`` is on a wheelset's axlebox: every element
+        acts on a wheelset through its axlebox, at the declared height above the axle (on the
+        axle at the axle's height), which passes the force and its moment into the axle but
+        not the moment about the axle (``docs/suspension.md``, "Elements at a wheelset"); the
+        force acts at the midpoint of the element's two ends, whose lever from the axle's
+        centre is never along the axle alone once the ends separate."""
+        return any(w.name == body for w in self.vehicle.wheelsets)
 
     def _local_point(
         self, body: str, p_vehicle, axlebox: bool = False
@@ -446,19 +535,19 @@ class VehicleModel:
         return local, self.centre[body] + self.rotation[body] @ local
 
     def _add_suspension(self) -> None:
-        """Linear springs and dampers (and the linear parts of air springs, anti-roll bars) as
-        Exudyn connectors preloaded with their static forces; bump stops and the nonlinear
-        elements (:mod:`railexu.model.suspension_forces`) are collected for the compiled force
-        function, with one internal coordinate per series spring."""
+        """Torsion springs (and anti-roll bars) as Exudyn connectors preloaded with their
+        static moments; linear springs and dampers (and the linear parts of air springs) as
+        compiled linear elements, bump stops and the nonlinear elements
+        (:mod:`railexu.model.suspension_forces`) collected for the compiled force function,
+        with one internal coordinate per series spring. Every element's forces act at the
+        midpoint of its two ends (no couple when they separate, ``docs/suspension.md``)."""
         self.bump_stops: list[tuple] = []
         self.bump_stop_axlebox: list[tuple[bool, bool]] = []
-        on_axlebox: list[SpringDamper] = []
+        spring_dampers: list[SpringDamper] = []
         for el in self.vehicle.suspension:
             lin = linear_part(el)
-            if isinstance(lin, SpringDamper) and self._element_on_axlebox(lin) != (False, False):
-                on_axlebox.append(lin)
-            elif isinstance(lin, SpringDamper):
-                self._add_spring_damper(lin)
+            if isinstance(lin, SpringDamper):
+                spring_dampers.append(lin)
             elif isinstance(lin, TorsionSpring):
                 self._add_torsion_spring(lin)
             elif isinstance(el, BumpStop):
@@ -473,21 +562,22 @@ class VehicleModel:
             self.kernel_elements = kernel_elements(self.vehicle, self.statics)
         except InputError as exc:
             raise ModelError(str(exc)) from exc
-        for lin in on_axlebox:
-            self.kernel_elements += self._axlebox_spring_damper(lin)
+        for lin in spring_dampers:
+            self.kernel_elements += self._compiled_spring_damper(lin)
         self._add_internal_coordinates()
 
     def _element_on_axlebox(self, el) -> tuple[bool, bool]:
         """Whether the element's point on its first and on its second body is on a wheelset's
-        axlebox away from the axle."""
-        return tuple(self._on_axlebox(b, el.position_m) for b in el.bodies)
+        axlebox."""
+        return tuple(self._on_axlebox(b) for b in el.bodies)
 
-    def _axlebox_spring_damper(self, el: SpringDamper) -> list[KernelElement]:
-        """A spring-damper with a point on a wheelset's axlebox away from the axle as compiled
-        linear elements, one per axis with stiffness or damping: the compiled force function
-        carries the moment of its force about the axle into the axle, as an axlebox does
-        (``docs/suspension.md``, "Elements at a wheelset"). Preloaded with its static force
-        like the connector (``F = k (d + d_s)``, ``d_s = -f_b / k``)."""
+    def _compiled_spring_damper(self, el: SpringDamper) -> list[KernelElement]:
+        """A linear spring-damper as compiled linear elements, one per axis with stiffness or
+        damping: its equal and opposite forces act at the midpoint of its two ends (an Exudyn
+        Cartesian spring-damper applies them at its two markers and leaves the couple
+        ``(p_b - p_a) x F`` of separated ends unbalanced), and on a wheelset through its
+        axlebox (``docs/suspension.md``). Preloaded with its static force
+        (``F = k (d + d_s)``, ``d_s = -f_b / k``)."""
         f_b = np.asarray(self.statics.element_forces[el.name], dtype=float)
         out = []
         for axis in range(3):
@@ -497,7 +587,7 @@ class VehicleModel:
                 continue
             out.append(
                 KernelElement(
-                    f"{el.name}_axlebox_{'xyz'[axis]}", bodies=el.bodies,
+                    f"{el.name}_{'xyz'[axis]}", bodies=el.bodies,
                     position_m=el.position_m, axis=axis, parallel_stiffness_N_per_m=k,
                     parallel_damping_N_s_per_m=c,
                     static_deflection_m=-f_b[axis] / k if k > 0.0 else 0.0,
@@ -516,10 +606,11 @@ class VehicleModel:
         if not masses:
             return
         n = len(masses)
+        start = [0.0] * n if self.start_internal_m is None else list(self.start_internal_m)
         self.internal_node = self.mbs.AddNode(
             NodeGenericODE2(
                 referenceCoordinates=[0.0] * n,
-                initialCoordinates=[0.0] * n,
+                initialCoordinates=start,
                 initialCoordinates_t=[0.0] * n,
                 numberOfODE2Coordinates=n,
             )
@@ -543,29 +634,6 @@ class VehicleModel:
         body_slot = {name: slot[node] for name, node in self.node.items() if node in slot}
         start = 6 * len(slot) + 4 * len(self.rail_node)
         return kernel_arrays(self.kernel_elements, body_slot, local, start, axlebox)
-
-    def _add_spring_damper(self, el: SpringDamper) -> None:
-        from exudyn.itemInterface import MarkerBodyPosition, ObjectConnectorCartesianSpringDamper
-
-        mbs = self.mbs
-        a, b = el.bodies
-        la, ga = self._local_point(a, el.position_m)
-        lb, gb = self._local_point(b, el.position_m)
-        ma = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[a], localPosition=la))
-        mb = mbs.AddMarker(MarkerBodyPosition(bodyNumber=self.body[b], localPosition=lb))
-        k = np.asarray(el.stiffness_N_per_m)
-        f_b = np.asarray(self.statics.element_forces[el.name])
-        offset = gb - ga
-        nz = k > 0.0
-        offset[nz] += f_b[nz] / k[nz]
-        mbs.AddObject(
-            ObjectConnectorCartesianSpringDamper(
-                markerNumbers=[ma, mb],
-                stiffness=list(k),
-                damping=list(el.damping_N_s_per_m),
-                offset=list(offset),
-            )
-        )
 
     def _add_torsion_spring(self, el: TorsionSpring) -> None:
         from exudyn.itemInterface import MarkerBodyRigid, ObjectConnectorRigidBodySpringDamper

@@ -1,4 +1,4 @@
-"""Kinematics of points fixed to Exudyn ``NodeRigidBodyRxyz`` nodes, and axial forces on them.
+"""Kinematics of points fixed to Exudyn ``NodeRigidBodyRxyz`` nodes, and forces on them.
 
 Shared by the compiled force functions of the bump stops (:mod:`railexu.model.forces`) and of the
 nonlinear suspension elements (:mod:`railexu.model.suspension_forces`). A node at coordinate offset
@@ -60,27 +60,6 @@ def point_state(o, lx, ly, lz, q, qt, qref, p, v, r):
 
 
 @numba.njit(**_JIT)
-def apply_axial_force(o, sgn, f, dr, r, q, qref, out):
-    """Add the force ``sgn f`` along axis ``dr`` at lever ``r`` to the node at offset ``o``."""
-    fv0 = sgn * f if dr == 0 else 0.0
-    fv1 = sgn * f if dr == 1 else 0.0
-    fv2 = sgn * f if dr == 2 else 0.0
-    out[o] += fv0
-    out[o + 1] += fv1
-    out[o + 2] += fv2
-    tx = r[1] * fv2 - r[2] * fv1
-    ty = r[2] * fv0 - r[0] * fv2
-    tz = r[0] * fv1 - r[1] * fv0
-    t0 = qref[o + 3] + q[o + 3]
-    t1 = qref[o + 4] + q[o + 4]
-    c0, s0 = math.cos(t0), math.sin(t0)
-    c1, s1 = math.cos(t1), math.sin(t1)
-    out[o + 3] += tx
-    out[o + 4] += c0 * ty + s0 * tz
-    out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
-
-
-@numba.njit(**_JIT)
 def axlebox_point_state(o, lx, ly, lz, q, qt, qref, p, v, r):
     """Like :func:`point_state` for a point on a wheelset's axlebox: it follows the wheelset's
     translation and its first two angles (roll and yaw of the axle) but not its spin, the last
@@ -108,16 +87,17 @@ def axlebox_point_state(o, lx, ly, lz, q, qt, qref, p, v, r):
 
 
 @numba.njit(**_JIT)
-def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
-    """Add the force ``sgn f`` along axis ``dr`` at the axlebox point with lever ``r`` from the
-    centre of the wheelset at offset ``o``: the force and the moment ``r x F`` about the axes
-    across the axle pass into the axle (as its bearings do); the moment about the axle, which a
+def apply_force(o, o_guide, fv0, fv1, fv2, r, q, qref, out):
+    """Add the force ``(fv0, fv1, fv2)`` (global) at lever ``r`` to the node at offset ``o``:
+    the force and its moment ``r x F`` (a global moment ``M`` acts on the angles as
+    ``G(theta)^T M``).
+
+    With ``o_guide >= 0`` the node is a wheelset and ``r`` leads from its centre to a point on
+    its axlebox (:func:`axlebox_point_state`): the force and the moment about the axes across
+    the axle pass into the axle (as its bearings do); the moment about the axle, which a
     bearing cannot carry, goes to the axlebox's guide on the body at offset ``o_guide`` (the
-    other body of the element), so that the element's forces and moments balance exactly
-    (``docs/suspension.md``, "Elements at a wheelset")."""
-    fv0 = sgn * f if dr == 0 else 0.0
-    fv1 = sgn * f if dr == 1 else 0.0
-    fv2 = sgn * f if dr == 2 else 0.0
+    element's other body), so that the element's forces and moments balance exactly
+    (``docs/suspension.md``, "Elements at a wheelset"); the spin row gets nothing."""
     out[o] += fv0
     out[o + 1] += fv1
     out[o + 2] += fv2
@@ -128,6 +108,11 @@ def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
     t1 = qref[o + 4] + q[o + 4]
     c0, s0 = math.cos(t0), math.sin(t0)
     c1, s1 = math.cos(t1), math.sin(t1)
+    if o_guide < 0:
+        out[o + 3] += tx
+        out[o + 4] += c0 * ty + s0 * tz
+        out[o + 5] += s1 * tx - s0 * c1 * ty + c0 * c1 * tz
+        return
     # the axle's direction (the wheelset's third axis, without its spin)
     ex, ey, ez = s1, -s0 * c1, c0 * c1
     m_axle = tx * ex + ty * ey + tz * ez
@@ -145,3 +130,16 @@ def apply_axlebox_force(o, o_guide, sgn, f, dr, r, q, qref, out):
     out[o_guide + 3] += mx
     out[o_guide + 4] += cg0 * my + sg0 * mz
     out[o_guide + 5] += sg1 * mx - sg0 * cg1 * my + cg0 * cg1 * mz
+
+
+@numba.njit(inline="always", **_JIT)
+def midpoint_levers(pa, pb, ra, rb):
+    """Turn the levers ``ra``, ``rb`` of an element's two ends ``pa``, ``pb`` (from their
+    bodies' centres) into the levers of the ends' midpoint ``(pa + pb) / 2``: an element's
+    equal and opposite forces then act at one point and carry no couple ``(pb - pa) x F``,
+    which a coil spring's seats carry half each (``docs/suspension.md``, "The couple of an
+    element whose ends separate")."""
+    for k in range(3):
+        half = 0.5 * (pb[k] - pa[k])
+        ra[k] += half
+        rb[k] -= half

@@ -41,9 +41,9 @@ import numpy as np
 
 from railexu.contact import kernel as K
 from railexu.model.body_points import (
-    apply_axial_force,
-    apply_axlebox_force,
+    apply_force,
     axlebox_point_state,
+    midpoint_levers,
     point_state,
     rotation,
 )
@@ -628,14 +628,12 @@ def _bump_stop(b, q, qt, qref, bs_int, bs_real, out):
     d = pb[dr] - pa[dr] - bs_real[b, BS_D0]
     f = bump_stop_law(d, vb[dr] - va[dr], bs_real[b, BS_CLEAR], bs_real[b, BS_K], bs_real[b, BS_C])
     if f != 0.0:
-        if box_a:
-            apply_axlebox_force(oa, ob, -1.0, f, dr, ra, q, qref, out)
-        else:
-            apply_axial_force(oa, -1.0, f, dr, ra, q, qref, out)
-        if box_b:
-            apply_axlebox_force(ob, oa, 1.0, f, dr, rb, q, qref, out)
-        else:
-            apply_axial_force(ob, 1.0, f, dr, rb, q, qref, out)
+        midpoint_levers(pa, pb, ra, rb)  # no couple of the separated ends (docs/suspension.md)
+        f0 = f if dr == 0 else 0.0
+        f1 = f if dr == 1 else 0.0
+        f2 = f if dr == 2 else 0.0
+        apply_force(oa, ob if box_a else -1, -f0, -f1, -f2, ra, q, qref, out)
+        apply_force(ob, oa if box_b else -1, f0, f1, f2, rb, q, qref, out)
 
 
 @numba.njit(**_JIT)

@@ -1,9 +1,12 @@
-"""Compiled forces of the nonlinear suspension elements (``docs/suspension.md``).
+"""Compiled forces of the suspension elements other than torsion springs: the linear
+spring-dampers and the nonlinear elements (``docs/suspension.md``).
 
-Every nonlinear element is reduced to one or more *kernel elements* acting between two body
-points along one track axis (x, y or z). With the relative displacement ``d`` of the second
-point from the first along the axis, measured from the nominal (static) geometry, and its rate
-``v = d'``, a kernel element exerts ``-F`` on the second body and ``+F`` on the first, with
+Every such element is reduced to one or more *kernel elements* acting between two body
+points along one track axis (x, y or z); the forces on the two bodies act at the midpoint of
+the two points (no couple when they separate), on a wheelset through its axlebox. With the
+relative displacement ``d`` of the second point from the first along the axis, measured from
+the nominal (static) geometry, and its rate ``v = d'``, a kernel element exerts ``-F`` on the
+second body and ``+F`` on the first, with
 
     F = P(d + d_s) + c_p v + S
 
@@ -53,9 +56,9 @@ import numba
 import numpy as np
 
 from railexu.model.body_points import (
-    apply_axial_force,
-    apply_axlebox_force,
+    apply_force,
     axlebox_point_state,
+    midpoint_levers,
     point_state,
 )
 from railexu.model.characteristics import characteristic_table
@@ -93,7 +96,8 @@ SI_LAW_START = 7  # first row of the law's table
 SI_LAW_N = 8  # its number of points
 SI_BOX0 = 9  # 1: the first body is a wheelset and the point is on its axlebox (off the axle)
 SI_BOX1 = 10  # 1: the same for the second body
-SI_NINT = 11
+SI_GROUP = 11  # elements in the group that starts here (same bodies and ends), 0: in a group
+SI_NINT = 12
 
 LAW_NONE = 0
 LAW_TABLE = 1
@@ -155,30 +159,28 @@ def _law(e, si, sr, tab, v):
 
 
 @numba.njit(**_JIT)
-def element_force(e, q, qt, qref, si, sr, tab, out):
-    """Add the generalized forces of kernel element ``e`` to ``out`` and return its force
-    ``F`` [N] (``-F`` acts on the second body along the element's axis)."""
+def _points(e, q, qt, qref, si, sr, pa, pb, va, vb, ra, rb):
+    """Positions, velocities and levers of kernel element ``e``'s two ends (on a wheelset:
+    its axlebox)."""
     oa = 6 * si[e, SI_SLOT0]
     ob = 6 * si[e, SI_SLOT1]
-    dr = si[e, SI_DIR]
-    pa = np.empty(3)
-    pb = np.empty(3)
-    va = np.empty(3)
-    vb = np.empty(3)
-    ra = np.empty(3)
-    rb = np.empty(3)
-    box_a = si[e, SI_BOX0] == 1
-    box_b = si[e, SI_BOX1] == 1
-    if box_a:
+    if si[e, SI_BOX0] == 1:
         axlebox_point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref,
                             pa, va, ra)  # fmt: skip
     else:
         point_state(oa, sr[e, SR_P0], sr[e, SR_P0 + 1], sr[e, SR_P0 + 2], q, qt, qref, pa, va, ra)
-    if box_b:
+    if si[e, SI_BOX1] == 1:
         axlebox_point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref,
                             pb, vb, rb)  # fmt: skip
     else:
         point_state(ob, sr[e, SR_P1], sr[e, SR_P1 + 1], sr[e, SR_P1 + 2], q, qt, qref, pb, vb, rb)
+
+
+@numba.njit(**_JIT)
+def _axis_force(e, pa, pb, va, vb, q, qt, si, sr, tab, out):
+    """Force ``F`` [N] of kernel element ``e`` from its ends' states (module doc); adds its
+    internal coordinate's generalized force to ``out``."""
+    dr = si[e, SI_DIR]
     d = pb[dr] - pa[dr] - sr[e, SR_D0]
     v = vb[dr] - va[dr]
     start = si[e, SI_SPRING_START]
@@ -200,23 +202,92 @@ def element_force(e, q, qt, qref, si, sr, tab, out):
         f += fs
     else:
         f += _law(e, si, sr, tab, v)
-    if f != 0.0:
-        if box_a:
-            apply_axlebox_force(oa, ob, 1.0, f, dr, ra, q, qref, out)
-        else:
-            apply_axial_force(oa, 1.0, f, dr, ra, q, qref, out)
-        if box_b:
-            apply_axlebox_force(ob, oa, -1.0, f, dr, rb, q, qref, out)
-        else:
-            apply_axial_force(ob, -1.0, f, dr, rb, q, qref, out)
     return f
+
+
+@numba.njit(**_JIT)
+def _apply_pair(e, f0, f1, f2, pa, pb, ra, rb, q, qref, si, out):
+    """Add the force ``(f0, f1, f2)`` on the first body of element ``e`` and its opposite on
+    the second, both at the midpoint of the element's ends (``docs/suspension.md``, "The
+    couple of an element whose ends separate"); on a wheelset through its axlebox."""
+    oa = 6 * si[e, SI_SLOT0]
+    ob = 6 * si[e, SI_SLOT1]
+    midpoint_levers(pa, pb, ra, rb)
+    apply_force(oa, ob if si[e, SI_BOX0] == 1 else -1, f0, f1, f2, ra, q, qref, out)
+    apply_force(ob, oa if si[e, SI_BOX1] == 1 else -1, -f0, -f1, -f2, rb, q, qref, out)
+
+
+def element_deflection(e: int, q: np.ndarray, qref: np.ndarray, si: np.ndarray,
+                       sr: np.ndarray) -> float:  # fmt: skip
+    """The deflection ``d`` [m] of kernel element ``e`` along its axis from the nominal
+    geometry at the coordinates ``q`` (the ``d`` of the module doc)."""
+    p = [np.empty(3) for _ in range(6)]
+    _points(e, q, np.zeros_like(q), qref, si, sr, *p)
+    dr = si[e, SI_DIR]
+    return float(p[1][dr] - p[0][dr] - sr[e, SR_D0])
+
+
+@numba.njit(**_JIT)
+def element_force(e, q, qt, qref, si, sr, tab, out):
+    """Add the generalized forces of kernel element ``e`` to ``out`` and return its force
+    ``F`` [N] (``-F`` acts on the second body along the element's axis). Both forces act at
+    the midpoint of the element's two ends, so that the pair carries no couple whatever the
+    separation of its ends (``docs/suspension.md``, "The couple of an element whose ends
+    separate")."""
+    pa = np.empty(3)
+    pb = np.empty(3)
+    va = np.empty(3)
+    vb = np.empty(3)
+    ra = np.empty(3)
+    rb = np.empty(3)
+    _points(e, q, qt, qref, si, sr, pa, pb, va, vb, ra, rb)
+    f = _axis_force(e, pa, pb, va, vb, q, qt, si, sr, tab, out)
+    if f != 0.0:
+        dr = si[e, SI_DIR]
+        _apply_pair(e, f if dr == 0 else 0.0, f if dr == 1 else 0.0, f if dr == 2 else 0.0,
+                    pa, pb, ra, rb, q, qref, si, out)  # fmt: skip
+    return f
+
+
+@numba.njit(**_JIT)
+def group_force(g, q, qt, qref, si, sr, tab, out):
+    """Add the generalized forces of the group of kernel elements that starts at ``g`` (the
+    ``si[g, SI_GROUP]`` elements from ``g`` on share their bodies and ends: a spring-damper's
+    axes) to ``out``: the ends' states once, the axes' forces summed into one force at the
+    midpoint. The same forces as :func:`element_force` of each element, in a third of the
+    time for a three-axis spring-damper."""
+    _group_force(g, q, qt, qref, si, sr, tab, out, np.empty((6, 3)))
+
+
+@numba.njit(**_JIT)
+def _group_force(g, q, qt, qref, si, sr, tab, out, work):
+    """:func:`group_force` with the ends' states in ``work`` (6 x 3, overwritten): one work
+    array for all groups of a call instead of six small arrays per group."""
+    pa, pb, va, vb, ra, rb = work[0], work[1], work[2], work[3], work[4], work[5]
+    _points(g, q, qt, qref, si, sr, pa, pb, va, vb, ra, rb)
+    f0 = 0.0
+    f1 = 0.0
+    f2 = 0.0
+    for e in range(g, g + si[g, SI_GROUP]):
+        f = _axis_force(e, pa, pb, va, vb, q, qt, si, sr, tab, out)
+        dr = si[e, SI_DIR]
+        if dr == 0:
+            f0 += f
+        elif dr == 1:
+            f1 += f
+        else:
+            f2 += f
+    if f0 != 0.0 or f1 != 0.0 or f2 != 0.0:
+        _apply_pair(g, f0, f1, f2, pa, pb, ra, rb, q, qref, si, out)
 
 
 @numba.njit(**_JIT)
 def suspension_forces(q, qt, qref, si, sr, tab, out):
     """Add the generalized forces of all kernel elements to ``out`` (see the module doc)."""
-    for e in range(si.shape[0]):
-        element_force(e, q, qt, qref, si, sr, tab, out)
+    work = np.empty((6, 3))
+    for g in range(si.shape[0]):
+        if si[g, SI_GROUP] > 0:
+            _group_force(g, q, qt, qref, si, sr, tab, out, work)
 
 
 #: Finite-difference steps of :func:`suspension_jacobian` [m, rad; m/s, rad/s].
@@ -225,38 +296,76 @@ EPS_V = 1.0e-6
 
 
 @numba.njit(**_JIT)
+def _group_columns(g, si, sr, cols):
+    """The coordinates a group's forces depend on, into ``cols``: ``(n_q, n_v)``, the first
+    ``n_q`` entries by position, the next ``n_v`` by velocity. Not a wheelset's spin (an
+    axlebox does not turn with it), not the bodies' velocities when no element of the group
+    has damping, a velocity law or an internal coordinate."""
+    n = 0
+    for side in range(2):
+        o = 6 * si[g, SI_SLOT0 + side]
+        for k in range(6):
+            if k == 5 and si[g, SI_BOX0 + side] == 1:
+                continue
+            cols[n] = o + k
+            n += 1
+    rate = False
+    for e in range(g, g + si[g, SI_GROUP]):
+        if si[e, SI_INTERNAL] >= 0:
+            cols[n] = si[e, SI_INTERNAL]
+            n += 1
+            rate = True
+        if sr[e, SR_CP] != 0.0 or si[e, SI_LAW] != LAW_NONE:
+            rate = True
+    if not rate:
+        return n, 0
+    for k in range(n):
+        cols[n + k] = cols[k]
+    return n, n
+
+
+@numba.njit(**_JIT)
 def suspension_jacobian(q, qt, qref, si, sr, tab, f_q, f_v, jac, qp, qtp, base, pert):
     """Add ``-f_q dF/dq - f_v dF/dq_t`` of every kernel element to ``jac`` by finite
-    differences over the element's own coordinates (its two bodies' 12 and its internal one).
-    ``qp``, ``qtp`` are copies of ``q``, ``qt`` (restored on return); ``base``, ``pert`` work
-    arrays of the coordinates' length."""
-    n = q.shape[0]
-    cols = np.empty(13, dtype=np.int64)
-    for e in range(si.shape[0]):
-        for k in range(6):
-            cols[k] = 6 * si[e, SI_SLOT0] + k
-            cols[6 + k] = 6 * si[e, SI_SLOT1] + k
-        nc = 12
-        if si[e, SI_INTERNAL] >= 0:
-            cols[12] = si[e, SI_INTERNAL]
-            nc = 13
-        for i in range(n):
-            base[i] = 0.0
-        element_force(e, q, qt, qref, si, sr, tab, base)
-        for j in range(2 * nc):
-            col = cols[j % nc]
-            if j < nc:
+    differences over the coordinates of each group of elements (:func:`group_force`: its two
+    bodies' and its internal ones, :func:`_group_columns`). ``qp``, ``qtp`` are copies of
+    ``q``, ``qt`` (restored on return); ``base``, ``pert`` work arrays of the coordinates'
+    length."""
+    cols = np.empty(2 * (12 + si.shape[0]), dtype=np.int64)
+    rows = np.empty(12 + si.shape[0], dtype=np.int64)
+    work = np.empty((6, 3))
+    for g in range(si.shape[0]):
+        if si[g, SI_GROUP] <= 0:
+            continue
+        n_q, n_v = _group_columns(g, si, sr, cols)
+        # rows: the two bodies' 12 coordinates and the internal ones
+        nr = 0
+        for side in range(2):
+            o = 6 * si[g, SI_SLOT0 + side]
+            for k in range(6):
+                rows[nr] = o + k
+                nr += 1
+        for e in range(g, g + si[g, SI_GROUP]):
+            if si[e, SI_INTERNAL] >= 0:
+                rows[nr] = si[e, SI_INTERNAL]
+                nr += 1
+        for k in range(nr):
+            base[rows[k]] = 0.0
+        _group_force(g, q, qt, qref, si, sr, tab, base, work)
+        for j in range(n_q + n_v):
+            col = cols[j]
+            if j < n_q:
                 h = EPS_Q
                 qp[col] = q[col] + h
             else:
                 h = EPS_V
                 qtp[col] = qt[col] + h
-            for k in range(nc):
-                pert[cols[k]] = 0.0
-            element_force(e, qp, qtp, qref, si, sr, tab, pert)
-            factor = f_q if j < nc else f_v
-            for k in range(nc):
-                row = cols[k]
+            for k in range(nr):
+                pert[rows[k]] = 0.0
+            _group_force(g, qp, qtp, qref, si, sr, tab, pert, work)
+            factor = f_q if j < n_q else f_v
+            for k in range(nr):
+                row = rows[k]
                 jac[row, col] -= factor * (pert[row] - base[row]) / h
             qp[col] = q[col]
             qtp[col] = qt[col]
@@ -381,8 +490,28 @@ def kernel_arrays(
             i_int += 1
             sr[e, SR_KS] = el.series_stiffness_N_per_m
             sr[e, SR_CV] = el.internal_damping_N_s_per_m()
+    _mark_groups(si, sr)
     tab = np.concatenate(rows) if rows else np.zeros((0, 2))
     return si, sr, np.ascontiguousarray(tab)
+
+
+def _mark_groups(si: np.ndarray, sr: np.ndarray) -> None:
+    """``si[:, SI_GROUP]``: consecutive elements with the same bodies, axlebox flags and local
+    ends (a spring-damper's axes, a UIC link's two directions) form one group, evaluated
+    together (:func:`group_force`); its first element holds the group's size, the others 0."""
+    lead = -1
+    for e in range(si.shape[0]):
+        same = lead >= 0 and (
+            np.array_equal(si[e, [SI_SLOT0, SI_SLOT1, SI_BOX0, SI_BOX1]],
+                           si[lead, [SI_SLOT0, SI_SLOT1, SI_BOX0, SI_BOX1]])
+            and np.array_equal(sr[e, SR_P0 : SR_P1 + 3], sr[lead, SR_P0 : SR_P1 + 3])
+        )  # fmt: skip
+        if same:
+            si[lead, SI_GROUP] += 1
+            si[e, SI_GROUP] = 0
+        else:
+            lead = e
+            si[e, SI_GROUP] = 1
 
 
 #: A UIC link finds its vertical load among the weight-carrying elements between the same
