@@ -1,6 +1,7 @@
 """An acceptance verdict must not depend on the integration step: one section of the coach's
-large-radius curve zone at the default step (2 ms) and at half of it, every quantity compared
-within the tolerance stated on physical grounds in docs/acceptance.md ("Step-size study").
+large-radius curve zone and one flanging section of its 250-400 m zone (R 300 m) at the default
+step (2 ms) and at half of it, every quantity compared within the tolerance stated on physical
+grounds in docs/acceptance.md ("Step-size study").
 
 Not the wagon: a section of the loaded Hbbins (R 400 m, 30 m window after a 40 m run-in)
 differs by far more between the steps (Y/Q 0.39 and 0.90), its UIC links' dry friction making
@@ -28,21 +29,17 @@ from railexu.vehicle.vehicle import load_vehicle
 TOLERANCE = {"Y_qst": 0.01, "Q_qst": 0.01, "car_body_acc_y_qst": 0.01}
 PEAK_TOLERANCE = 0.05
 
-#: two runs of the coach over 155 m, one at 1 ms: longer than the suite's usual tests
+#: two pairs of runs of the coach over about 155 m, one of each at 1 ms: longer than the
+#: suite's usual tests
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture(scope="module")
-def two_steps():
-    programme = load_programme(
-        "coach",
-        overrides=(
-            "zones.curve_large_radius.section_length=30 m",
-            "zones.curve_large_radius.run_in=100 m",
-        ),
-    )
-    zone = programme.zone("curve_large_radius")
-    section = zone.sections()[0]  # R 600 m, 105 mm cant deficiency, 28.4 m/s
+def _two_steps(zone_name: str, index: int, overrides: tuple[str, ...], quick: bool = False):
+    """Section ``index`` of the coach programme's zone ``zone_name`` (shortened by
+    ``overrides``) at 2 ms and at 1 ms: (section, {step: SectionValues})."""
+    programme = load_programme("coach", quick=quick, overrides=overrides)
+    zone = programme.zone(zone_name)
+    section = zone.sections()[index]
     vehicle = load_vehicle("manchester_coach_extended")
     track = track_from_dict(zone_track(zone, [section], start_lead_m(vehicle)))
     out = {}
@@ -56,9 +53,23 @@ def two_steps():
     return section, out
 
 
-def test_every_quantity_agrees_at_half_the_step(two_steps):
-    section, out = two_steps
-    coarse, fine = out[0.002].values, out[0.001].values
+@pytest.fixture(scope="module")
+def two_steps():
+    zone = "curve_large_radius"
+    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=100 m")
+    return _two_steps(zone, 0, overrides)  # R 600 m, 105 mm cant deficiency, 28.4 m/s
+
+
+@pytest.fixture(scope="module")
+def small_radius_two_steps():
+    zone = "curve_very_small_radius"
+    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=100 m")
+    # the quick programme's second section: R 300 m, 71 mm cant deficiency, 20.8 m/s, where
+    # the outer leading wheel runs on its flange (docs/acceptance.md, "Step-size study")
+    return _two_steps(zone, 1, overrides, quick=True)
+
+
+def _assert_agree(coarse: dict, fine: dict) -> list[str]:
     compared = []
     for name, v1 in coarse.items():
         v2 = fine[name]
@@ -69,3 +80,27 @@ def test_every_quantity_agrees_at_half_the_step(two_steps):
         assert v2 == pytest.approx(v1, rel=tol), name
         compared.append(name)
     assert {"Y_over_Q_2m", "sum_Y_2m", "Q_max", "Y_qst", "Q_qst"} <= set(compared)
+    return compared
+
+
+def test_every_quantity_agrees_at_half_the_step(two_steps):
+    _, out = two_steps
+    _assert_agree(out[0.002].values, out[0.001].values)
+
+
+@pytest.mark.xfail(
+    reason="needs the patch-centroid contact of branch h5 (issue 28), not merged: main's "
+    "flange-root chatter makes this zone's peaks depend on the step",
+    strict=False,
+)
+def test_flanging_section_of_the_small_radius_zone_agrees_at_half_the_step(
+    small_radius_two_steps,
+):
+    """R 300 m: before the contact patch's force was put at its load centroid (the flange-root
+    chatter fix, docs/contact-model.md) Q_max and Y/Q of this zone's flanging sections changed
+    by 39-62 % and up to 0.57 -> 0.96 between 2 and 1 ms."""
+    section, out = small_radius_two_steps
+    assert section.radius_m == 300.0
+    coarse, fine = out[0.002].values, out[0.001].values
+    assert coarse["Y_over_Q_2m"] > 0.2  # a guiding outer wheel (measured 0.45), as before the fix
+    _assert_agree(coarse, fine)

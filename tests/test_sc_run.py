@@ -11,6 +11,8 @@ the nose is still below the wheel's tread there, tests/test_sc_kernel.py's mbenc
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -19,10 +21,37 @@ from railexu.simulation.sc_outputs import crossing_summary, rail_index
 from railexu.track.track import load_track
 from railexu.vehicle.vehicle import load_vehicle
 
+TRACKS = Path(__file__).resolve().parents[1] / "tracks"
+#: CONTACT's short crossing (slices 41-60 of the UK crossing, uk_interrupt_v2.slcs, on the
+#: benchmark's UIC60 canted 1:40, CONTACT's placement), as the shipped crossing tracks were
+#: before the whole crossing: these tests check the per-rail outputs and the transfer inside
+#: it (the whole crossing: tests/test_sc_full_crossing.py).
+SHORT_CROSSING = f"""format_version: 1
+name: UK crossing slices 41-60, facing
+rail_profile: MBench_UIC60
+inclination: "1:40"
+gauge: 1.435 m
+geometry:
+  type: straight
+variable_rails:
+  type: slices
+  start: 3 m
+  direction: facing
+  left: {TRACKS / "uk_crossing" / "uk_interrupt_v2.slcs"}
+  text_unit: m
+  rail_origin: [0.75 m, 0 m]
+  station_step: 10 mm
+  effective_length: 60 mm
+irregularities:
+  type: none
+"""
+
 
 @pytest.fixture(scope="module")
-def facing():
-    return load_track("uk_crossing_facing", overrides="variable_rails.start=3 m")
+def facing(tmp_path_factory):
+    path = tmp_path_factory.mktemp("short_crossing") / "short_crossing.yaml"
+    path.write_text(SHORT_CROSSING)
+    return load_track(path)
 
 
 def test_rail_index_against_the_slices_geometry(facing):

@@ -18,10 +18,11 @@ with
   ``[t_start, t_end]``;
 - ``A..E``: constants for standing and for seated passengers (:data:`PCT_CONSTANTS`).
 
-Sources railexu could read: the method and its constants as reproduced in the public research
-texts on tilting trains (FACT project deliverable D8 "Tracks for tilting trains", section 3.1.2
+Sources named for the method and its constants: the public research texts on tilting trains
+that reproduce them (FACT project deliverable D8 "Tracks for tilting trains", section 3.1.2
 "CEN comfort index PCT"; Lauriks et al., "UIC comfort tests", VTI notat 56A-2003; R. Persson,
-"Tilting trains - technology, benefits and motion sickness", KTH licentiate thesis 2008). The
+"Tilting trains - technology, benefits and motion sickness", KTH licentiate thesis 2008); a
+later search (docs/acceptance.md) reached only their opening pages, not these sections. The
 text of EN 12299 is not public: the constants, the windows (1 s, 1.6 s) and the filters'
 cut-off frequencies are parameters of :class:`PctParameters`, and every result says
 ``assumption: true`` until they are checked against the purchased standard. The filter cut-offs

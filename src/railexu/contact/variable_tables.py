@@ -54,12 +54,15 @@ def section_rail_arrays(
     x_max_m: float = 0.0,
     x_step_m: float = 5.0e-4,
     grid: tuple[float, int] | None = None,
+    cache: dict | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Kernel table ``[z, z', z'', z''_smooth, bounds...]`` and info ``(y0, step, n)`` of the
     variable rail at ``s`` [m], placed like ``pair``'s rail (track axes, z up).
 
     ``grid = (y0, n)`` fixes the table's rows (stations blended in the dynamics share one grid);
-    default: the curves' extent. Beyond a curve's end the table continues flat.
+    default: the curves' extent. Beyond a curve's end the table continues flat. ``cache``: the
+    top surfaces of sections already computed on the same grid, by position (shared between
+    neighbouring stations, whose effective sections overlap; :func:`station_tables`).
 
     Raises:
         ComputationError: a curve that is no longer a graph after the cant's rotation.
@@ -68,8 +71,8 @@ def section_rail_arrays(
     step = pair.rail_table.step_m
     wheel = pair.wheel
     xs = np.arange(-x_max_m, x_max_m + 0.5 * x_step_m, x_step_m) if x_max_m > 0 else np.zeros(1)
-    sections = [_placed_curves(rail, s_m + x, pair.rail_cant_rad, origin) for x in xs]
     if grid is None:
+        sections = [_placed_curves(rail, s_m + x, pair.rail_cant_rad, origin) for x in xs]
         y0 = min(c[0][0] for cs in sections for c in cs)
         y1 = max(c[0][-1] for cs in sections for c in cs)
         n = int(np.floor((y1 - y0) / step)) + 1
@@ -81,8 +84,8 @@ def section_rail_arrays(
     d2z = np.zeros(n)
     s_w = np.clip(grid - pair.tape_circle_lateral_m, wheel.y_min, wheel.y_max)
     radius = pair.nominal_radius_m + wheel.height(s_w)
-    for x, curves in zip(xs, sections, strict=True):
-        zx, dzx, d2zx = _top_surface(curves, grid)
+    for x in xs:
+        zx, dzx, d2zx = _section_surface(rail, s_m + x, pair.rail_cant_rad, origin, grid, cache)
         zx = zx - (radius - np.sqrt(radius * radius - x * x))
         higher = zx > z
         z[higher], dz[higher], d2z[higher] = zx[higher], dzx[higher], d2zx[higher]
@@ -96,6 +99,17 @@ def section_rail_arrays(
     smooth = _smoothed(d2z, step, curvature_smoothing_m)
     tab = K.with_block_bounds(np.column_stack([z, dz, d2z, smooth]), step)
     return tab, np.array([y0, step, float(n)])
+
+
+def _section_surface(rail, s_m, cant, origin, grid, cache) -> tuple:
+    """:func:`_top_surface` of the section at ``s`` (from ``cache`` if computed: keyed by ``s``
+    in nanometres; positions that differ by rounding alone share a key or are recomputed)."""
+    if cache is None:
+        return _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
+    key = round(s_m * 1e9)
+    if key not in cache:
+        cache[key] = _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
+    return cache[key]
 
 
 def _placed_curves(rail, s_m, cant, origin) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -155,9 +169,22 @@ def station_tables(
             for y, _ in _placed_curves(rail, s + x, pair.rail_cant_rad, origin):
                 lo, hi = min(lo, y[0]), max(hi, y[-1])
     n = int(np.floor((hi - lo) / step)) + 1
-    tabs = [
-        section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
-                            curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n))[0]
-        for s in stations_m
-    ]  # fmt: skip
+    cache: dict = {}
+    tabs = []
+    first, last = rail.s_range_m
+    constant: dict = {}  # before the first / after the last slice the profile does not change
+    for s in stations_m:  # in order: sections behind the effective section are dropped
+        side = "before" if s + x_max_m < first else "after" if s - x_max_m > last else None
+        if side in constant:
+            tabs.append(constant[side])
+            continue
+        tabs.append(
+            section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
+                                curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n),
+                                cache=cache)[0]
+        )  # fmt: skip
+        if side is not None:
+            constant[side] = tabs[-1]
+        for key in [k for k in cache if k < round((s - x_max_m) * 1e9) - 1]:
+            del cache[key]
     return np.ascontiguousarray(np.stack(tabs)), np.array([lo, step, float(n)])

@@ -347,8 +347,9 @@ class VehicleModel:
             self.rtab[s, : tab.shape[0]] = tab
             self.rinfo[s] = info
         self.sc_fields = sc_kernel_fields(
-            getattr(self.track, "variable_rails", None), self.geometries[0], width
-        )
+            getattr(self.track, "variable_rails", None), self.geometries[0], width,
+            n_wheelsets=len(self.geometries),
+        )  # fmt: skip
         self.htab = hertz_table()
         self.ktab = kalker_table_for_poisson(self.contact_params.poisson)
 

@@ -107,6 +107,9 @@ WL_SIZE = 9
 NO_SC_TAB = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
 NO_SC_SIDE = np.full(2, -1, dtype=np.int64)
 NO_SC_INFO = np.zeros((2, 3))
+NO_SC_CACHE = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
+NO_SC_KEY = np.zeros((0, 2), dtype=np.int64)
+NO_SC_T = np.zeros((0, 2))
 
 
 class KernelData(NamedTuple):
@@ -154,6 +157,12 @@ class KernelData(NamedTuple):
     sc_tab: np.ndarray = NO_SC_TAB  # (n_stations, n_sides, M, columns); no stations: plain
     sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_tab's axis 1, -1: plain rail
     sc_info: np.ndarray = NO_SC_INFO  # per side the station tables' grid (y0, step, n)
+    # per wheelset and side its blended table (sc_cache), the station whose bound columns it
+    # holds (sc_key, -1: none) and the blend fraction of its base columns (sc_t): written by
+    # the force function, which re-blends only what changed (model/sc_tables.py)
+    sc_cache: np.ndarray = NO_SC_CACHE  # (n_ws, n_sides, M, columns)
+    sc_key: np.ndarray = NO_SC_KEY  # (n_ws, 2) int64
+    sc_t: np.ndarray = NO_SC_T  # (n_ws, 2)
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -316,19 +325,31 @@ def _work_size(d):
     size = 0
     for w in range(d.winfo.shape[0]):
         size = max(size, K.wheelset_scratch_size(d.winfo[w, 0], d.winfo[w, 1]))
-    if d.sc_tab.shape[0] > 0:  # the blended station tables of both sides, at the end
-        size += 2 * d.sc_tab.shape[2] * d.sc_tab.shape[3]
     return WORK_FIXED + size
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
-def _blend_station(d, i, t, side, out):
-    """``out = (1 - t) tab_i + t tab_i+1`` of one side's station tables (``out``: scratch)."""
-    a = d.sc_tab[i, d.sc_side[side]]
-    b = d.sc_tab[i + 1, d.sc_side[side]]
-    for r in range(out.shape[0]):
-        for c in range(out.shape[1]):
-            out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+def _blend_station(d, w, i, t, side):
+    """Make wheelset ``w``'s table of one side at ``(1 - t) station i + t station i+1``, from its
+    cache (``d.sc_cache[w, sc_side]``): the bound columns (pair envelopes of stations ``i`` and
+    ``i + 1``, :func:`railexu.model.sc_tables.pair_envelope_bounds`) copied only when ``i``
+    changes, the four base columns blended only when ``t`` does (the solver's evaluations at
+    one track position, its Jacobian's columns but the longitudinal one, reuse it)."""
+    j = d.sc_side[side]
+    out = d.sc_cache[w, j]
+    a = d.sc_tab[i, j]
+    if d.sc_key[w, side] != i:
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX, out.shape[1]):
+                out[r, c] = a[r, c]
+        d.sc_key[w, side] = i
+        d.sc_t[w, side] = np.nan
+    if d.sc_t[w, side] != t:
+        b = d.sc_tab[i + 1, j]
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+        d.sc_t[w, side] = t
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -387,18 +408,16 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     n_st = d.sc_tab.shape[0]
     if n_st > 1:
         # switches and crossings: inside the zone, the stations' tables blended at the wheelset
-        m, c = d.sc_tab.shape[2], d.sc_tab.shape[3]
-        end -= 2 * m * c
         u = (d.ws_local[w, WL_S] - d.sc_start) / d.sc_step
         if u >= 0.0 and u <= n_st - 1.0:
             i = min(int(u), n_st - 2)
             if d.sc_side[0] >= 0:
-                rtab_l = work[end : end + m * c].reshape((m, c))
-                _blend_station(d, i, u - i, 0, rtab_l)
+                _blend_station(d, w, i, u - i, 0)
+                rtab_l = d.sc_cache[w, d.sc_side[0]]
                 rinfo_l = d.sc_info[0]
             if d.sc_side[1] >= 0:
-                rtab_r = work[end + m * c : end + 2 * m * c].reshape((m, c))
-                _blend_station(d, i, u - i, 1, rtab_r)
+                _blend_station(d, w, i, u - i, 1)
+                rtab_r = d.sc_cache[w, d.sc_side[1]]
                 rinfo_r = d.sc_info[1]
     K.wheelset_contact_with_scratch(
         d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], rtab_l, rinfo_l,

@@ -14,15 +14,22 @@ from __future__ import annotations
 
 import numpy as np
 
+from railexu.contact import kernel as K
 from railexu.contact.placement import WheelsetGeometry
 from railexu.contact.variable_tables import station_tables
 from railexu.track.variable_rails import VariableRails
 
 
 def sc_kernel_fields(
-    rails: VariableRails | None, geometry: WheelsetGeometry, curvature_smoothing_m: float
+    rails: VariableRails | None,
+    geometry: WheelsetGeometry,
+    curvature_smoothing_m: float,
+    n_wheelsets: int = 1,
 ) -> dict:
-    """The ``sc_*`` fields of :class:`railexu.model.forces.KernelData` (empty: no zone)."""
+    """The ``sc_*`` fields of :class:`railexu.model.forces.KernelData` (empty: no zone): the
+    station tables with pair-envelope bounds (:func:`pair_envelope_bounds`) and each
+    wheelset's blend cache (``sc_cache``: its blended table per side; ``sc_key``: the station
+    ``i`` whose bounds it holds, -1 none; ``sc_t``: the blend fraction of its base columns)."""
     if rails is None:
         return {}
     lo, hi = rails.zone_m()
@@ -44,10 +51,33 @@ def sc_kernel_fields(
     for j, tab in enumerate(tabs):
         out[:, j, : tab.shape[1]] = tab
         out[:, j, tab.shape[1] :] = tab[:, -1:]  # rows beyond a shorter grid: never read
+    pair_envelope_bounds(out)
     return {
+        "sc_cache": np.zeros((n_wheelsets, len(tabs), rows, out.shape[3])),
+        "sc_key": np.full((n_wheelsets, 2), -1, dtype=np.int64),
+        "sc_t": np.full((n_wheelsets, 2), np.nan),
         "sc_start": float(stations[0]),
         "sc_step": float(rails.station_step_m),
         "sc_tab": out,
         "sc_side": side_index,
         "sc_info": infos,
     }
+
+
+def pair_envelope_bounds(tabs: np.ndarray) -> None:
+    """Make station ``i``'s curvature-bound columns (``kernel.T_SLOPE_MAX`` on) bound the
+    stations ``i`` and ``i + 1`` together (in place; ``tabs``: ``(n_stations, sides, M, C)``).
+
+    Every bound column is a largest ``|slope|``, a smallest or a largest curvature, or a
+    largest curvature change over a run of rows; of a blend ``(1 - t) a + t b`` each is bounded
+    by the larger (smaller) of ``a``'s and ``b``'s. So the blend of the two stations needs only
+    its four base columns blended, and station ``i``'s bounds serve for any ``t`` (looser
+    bounds only prune less: the kernel's search result is the same).
+    """
+    first = K.T_SLOPE_MAX
+    mins = [c for c in range(first, tabs.shape[3]) if (c - first) % 4 == 1]  # smallest z''
+    maxs = [c for c in range(first, tabs.shape[3]) if (c - first) % 4 != 1]
+    for i in range(tabs.shape[0] - 1):
+        a, b = tabs[i], tabs[i + 1]
+        a[..., maxs] = np.maximum(a[..., maxs], b[..., maxs])
+        a[..., mins] = np.minimum(a[..., mins], b[..., mins])

@@ -1,5 +1,6 @@
 """The ``crossing`` figure of a run through a switch-and-crossing zone (issue 29): per wheelset
-and side with a variable rail, the vertical force of each rail (nose, wing rail) and their sum,
+and side with a variable rail, the vertical force of each rail (nose and wing rail, or check
+rail and stock rail) and their sum,
 the lateral contact position on each rail and Tgamma per rail against the wheelset's distance
 along the track, the zone shaded."""
 
@@ -13,7 +14,9 @@ from matplotlib.figure import Figure
 if TYPE_CHECKING:
     from railexu.results import TimeSeries
 
-_RAILS = ("rail 1 (nose; switch: blade)", "rail 2 (wing rail; switch: stock rail)")
+#: Rail 1 is the gauge side's (the nose, a check rail, a switch blade), rail 2 the field side's
+#: (the wing rail, the stock rail beside a check rail or a blade): sc_outputs.rail_index.
+_RAILS = ("rail 1 (nose / check rail / blade)", "rail 2 (wing / stock rail)")
 
 
 def sc_sides(ts: TimeSeries) -> list[str]:

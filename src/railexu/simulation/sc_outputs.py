@@ -33,16 +33,41 @@ _SIDES = ("left", "right")
 
 def rail_index(profile: VariableProfile, s_m: float, y_m: np.ndarray) -> np.ndarray:
     """Index (0, 1) of the rail under lateral positions ``y_m`` [m] (the profile's axes) at the
-    profile's position ``s_m`` [m]: separate curves in lateral order (0 the first, 1 any later
-    one), or the two sides of the deepest point (z down) of a single curve."""
-    curves = profile.curves_at(s_m)
+    profile's position ``s_m`` [m]: with a boundary feature (:func:`boundary_feature`: the
+    nose's end and the wing rail's start of a whole crossing), the parts before it are rail 0
+    and those after it rail 1 (a slice with the wing rail or the nose alone is that rail);
+    else separate curves in lateral order (0 the first, 1 any later one), or the two sides of
+    the deepest point (z down) of a single curve."""
     y = np.asarray(y_m, dtype=float)
+    k = boundary_feature(profile)
+    if k is not None:
+        after = [pts[0, 0] for p, pts in profile.parts_at(s_m) if p >= k]
+        return (y >= (min(after) if after else np.inf)).astype(np.int64)
+    curves = profile.curves_at(s_m)
     if len(curves) > 1:
         split = 0.5 * (curves[0][-1, 0] + curves[1][0, 0])
     else:
         c = curves[0]
-        split = c[int(np.argmax(c[:, 1])), 0]
+        split = c[int(np.argmax(c[:, 1]))][0]
     return (y > split).astype(np.int64)
+
+
+def boundary_feature(profile: VariableProfile) -> int | None:
+    """The feature that parts a side's two rails along the whole zone, or None: one present
+    in every slice, with parts before and after it somewhere, and some slice without any part
+    before it or without any part after it (in either direction of travel: the wing rail alone
+    before a crossing's nose starts, the nose alone after the wing rail ends:
+    ``tracks/uk_crossing/uk_crossing_full.yaml``, CONTACT's ``uk_interrupt_v2.slcs``)."""
+    f = profile.slices.features_m
+    if f is None:
+        return None
+    have = np.isfinite(f)
+    for k in range(1, f.shape[1] - 1):
+        before, after = have[:, :k], have[:, k + 1 :]
+        parts = have[:, k].all() and before.any() and after.any()
+        if parts and (not before.any(axis=1).all() or not after.any(axis=1).all()):
+            return k
+    return None
 
 
 def sc_columns(

@@ -73,9 +73,10 @@ class Limit:
 
 
 #: Car-body acceleration limits of the normal method (ride characteristics) per category, m/s^2:
-#: (max lateral, max vertical, rms lateral, rms vertical, quasi-static lateral). Values of
-#: EN 14363 (2005 table of ride limits, kept in 2016) as railexu reads them in public texts;
-#: marked as railexu's assumption until confirmed against the purchased standard.
+#: (max lateral, max vertical, rms lateral, rms vertical, quasi-static lateral). Values railexu
+#: attributes to EN 14363 (the 2005 table of ride limits, kept in 2016) but could not find in a
+#: public text (docs/acceptance.md records the search): railexu's assumption, marked so in every
+#: verdict until confirmed against the purchased standard.
 CAR_BODY_LIMITS: dict[str, tuple[float, float, float, float, float]] = {
     "locomotive": (2.8, 2.8, 0.5, 1.0, 1.5),
     "coach": (2.5, 2.5, 0.5, 0.75, 1.5),

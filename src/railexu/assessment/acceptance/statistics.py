@@ -8,8 +8,9 @@ value* combines them:
 
       x_est = mean + k s,   s = sqrt(sum (x_i - mean)^2 / (N - 1))
 
-  with ``k`` of the programme (EN 14363: 2.2 for running safety and track loading, 3.0 for ride
-  characteristics; railexu assumption until confirmed, see ``docs/acceptance.md``);
+  with ``k`` of the programme (2.2 for running safety and track loading, 3.0 for ride
+  characteristics, as railexu attributes them to EN 14363; not found in a public text, so
+  railexu's assumption: see ``docs/acceptance.md``);
 - **two-dimensional** (curve zones): the least-squares regression of the section values on the
   zone's regressors (cant deficiency ``I`` and/or curvature ``1/R``), evaluated at the zone's
   limit conditions ``x0`` with the one-sided upper prediction bound::

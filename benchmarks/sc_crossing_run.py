@@ -1,0 +1,159 @@
+"""Cost of a run over the whole UK crossing against the same run on plain track (issue 29).
+
+Three measurements:
+
+1. **Per call, the station-table blend** inside an S&C zone (model/forces.py): before (main up
+   to d0e3487: every force evaluation blended all 28 columns of both stations' tables, per side
+   with a variable profile) against now (each wheelset keeps its blended table: the bound
+   columns, pair envelopes of two stations, are copied when the wheelset passes a station, the
+   four base columns re-blended only when its track position changed, nothing when it did not:
+   the solver's Newton iterations and its Jacobian's columns at one position). Timed on the
+   shipped crossing's tables of the left side (wing rail and nose) and of the right side (check
+   rail), per call.
+2. **Per call, the contact kernel** on plain rail and on the crossing's effective section with
+   the wheel on nose and wing rail (``benchmarks/sc_contact.py``'s kernel_costs measures the
+   same on CONTACT's short crossing).
+3. **A run**: the wheelset at 10 m/s over the shipped ``uk_crossing_facing`` (2.0 m of it,
+   s = -0.3 ... +1.7 m: the wing rail, the nose's start and landing, the check rail) against
+   the same distance of straight plain track, wall times of building the model (the zone's
+   station tables) and of integrating, and their ratio.
+
+Run: ``python benchmarks/sc_crossing_run.py`` (2 cores shared: timings vary by tens of percent
+between runs; interleave and repeat before concluding).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numba
+import numpy as np
+
+from railexu.contact import kernel as K
+from railexu.model.assembly import wheelset_geometry
+from railexu.model.sc_tables import sc_kernel_fields
+from railexu.results.run import RunSettings, run
+from railexu.track.track import load_track
+from railexu.vehicle.vehicle import load_vehicle
+
+
+@numba.njit(cache=True)
+def _old_blend(tab, i, t, j, out):
+    """main's blend (d0e3487): every column of station ``i`` and ``i + 1``."""
+    a = tab[i, j]
+    b = tab[i + 1, j]
+    for r in range(out.shape[0]):
+        for c in range(out.shape[1]):
+            out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+
+
+@numba.njit(cache=True)
+def _new_blend(tab, cache, key, tcache, i, t, j):
+    """model/forces.py's ``_blend_station`` on plain arrays (same loops)."""
+    out = cache[j]
+    a = tab[i, j]
+    if key[j] != i:
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX, out.shape[1]):
+                out[r, c] = a[r, c]
+        key[j] = i
+        tcache[j] = np.nan
+    if tcache[j] != t:
+        b = tab[i + 1, j]
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+        tcache[j] = t
+
+
+@numba.njit(cache=True)
+def _loop_old(n, tab, i, t, j, out):
+    for k in range(n):
+        _old_blend(tab, i, t + 1e-9 * (k % 2), j, out)
+    return out[0, 0]
+
+
+@numba.njit(cache=True)
+def _loop_new(n, tab, cache, key, tcache, i, t, j, mode):
+    for k in range(n):
+        if mode == 0:  # one track position: Newton iterations, Jacobian columns
+            _new_blend(tab, cache, key, tcache, i, t, j)
+        elif mode == 1:  # a new position every call, between the same stations
+            _new_blend(tab, cache, key, tcache, i, t + 1e-9 * (k % 2), j)
+        else:  # a new station every call (worst case)
+            _new_blend(tab, cache, key, tcache, i + (k % 2), t, j)
+    return cache[j, 0, 0]
+
+
+def _best(f, repeat: int = 5) -> float:
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def blend_costs(fields: dict, n: int = 2000) -> None:
+    """Per call of the blend, before and now, per side's station tables."""
+    tab = fields["sc_tab"]
+    print(f"station tables: {tab.shape[0]} stations x {tab.shape[1]} sides x {tab.shape[2]} rows "
+          f"x {tab.shape[3]} columns ({tab.nbytes / 1e6:.0f} MB)")  # fmt: skip
+    i, t = tab.shape[0] // 2, 0.37
+    for j, name in enumerate(("left (wing rail, nose)", "right (check rail)")[: tab.shape[1]]):
+        out = np.zeros(tab.shape[2:])
+        cache = np.zeros(tab.shape[1:])
+        key = np.full(tab.shape[1], -1, dtype=np.int64)
+        tcache = np.full(tab.shape[1], np.nan)
+        _loop_old(2, tab, i, t, j, out)
+        _loop_new(2, tab, cache, key, tcache, i, t, j, 0)
+        old = _best(lambda: _loop_old(n, tab, i, t, j, out)) / n  # noqa: B023
+        new = [
+            _best(lambda m=m: _loop_new(n, tab, cache, key, tcache, i, t, j, m)) / n  # noqa: B023
+            for m in (0, 1, 2)
+        ]
+        print(f"  {name:<24s} before {old * 1e6:7.2f} us per call; now: same position "
+              f"{new[0] * 1e6:6.3f} us, new position {new[1] * 1e6:6.2f} us, new station "
+              f"{new[2] * 1e6:6.2f} us")  # fmt: skip
+
+
+def run_costs(distance_m: float = 2.0) -> None:
+    """The wheelset over the crossing against plain track: build and integration wall times."""
+    vehicle = load_vehicle("wheelset")
+    crossing = load_track("uk_crossing_facing", overrides="variable_rails.start=4 m")
+    plain = replace(crossing, variable_rails=None)
+    settings = RunSettings(
+        speed_m_per_s=10.0, distance_m=4.0 + distance_m - 0.3, initial_lateral_m=0.0
+    )
+    times = {}
+    for label, track in (("plain", plain), ("crossing", crossing), ("plain again", plain)):
+        t0 = time.perf_counter()
+        result = run(vehicle, track, settings)
+        wall = time.perf_counter() - t0
+        timings = result.summary.get("timings_s", {})
+        integ = float(timings.get("integration_s", float("nan")))
+        times[label] = (wall, integ)
+        print(f"  {label:<12s} run {wall:7.1f} s ({result.status['state']}), of which "
+              f"integration {integ:6.1f} s; timings {timings}")  # fmt: skip
+    base = [min(times["plain"][k], times["plain again"][k]) for k in (0, 1)]
+    print(
+        f"  ratio crossing / plain: whole run (the zone's tables included) "
+        f"{times['crossing'][0] / base[0]:.2f}, integration {times['crossing'][1] / base[1]:.2f}"
+    )
+
+
+def main() -> None:
+    track = load_track("uk_crossing_facing")
+    geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
+    t0 = time.perf_counter()
+    fields = sc_kernel_fields(track.variable_rails, geometry, 5.0e-4)
+    print(f"building the shipped crossing's station tables: {time.perf_counter() - t0:.1f} s")
+    blend_costs(fields)
+    del fields
+    print("the wheelset at 10 m/s: 4 m of plain track (check rail from 1.1 m), 1.7 m of crossing")
+    run_costs()
+
+
+if __name__ == "__main__":
+    main()
