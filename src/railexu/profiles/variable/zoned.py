@@ -47,7 +47,11 @@ class Panel:
 
 @dataclass(frozen=True)
 class _Source:
+    """What readers of ``profile.slices`` ask of a zoned profile: its name; no feature points
+    spanning the zone (each panel has its own)."""
+
     source: str
+    features_m: None = None
 
 
 class ZonedProfile:
