@@ -14,9 +14,9 @@ from matplotlib.figure import Figure
 if TYPE_CHECKING:
     from railexu.results import TimeSeries
 
-#: Rail 1 is the gauge side's (the nose, a check rail), rail 2 the field side's (the wing rail,
-#: the stock rail beside a check rail): simulation/sc_outputs.rail_index.
-_RAILS = ("rail 1 (nose / check rail)", "rail 2 (wing / stock rail)")
+#: Rail 1 is the gauge side's (the nose, a check rail, a switch blade), rail 2 the field side's
+#: (the wing rail, the stock rail beside a check rail or a blade): sc_outputs.rail_index.
+_RAILS = ("rail 1 (nose / check rail / blade)", "rail 2 (wing / stock rail)")
 
 
 def sc_sides(ts: TimeSeries) -> list[str]:

@@ -11,6 +11,7 @@ import math
 from railexu.contact.standard_gauge import STANDARD_GAUGE_M
 from railexu.inputs import OPTIONAL, REQUIRED, Field, Schema
 from railexu.track.irregularities import COMPONENTS, available_spectra
+from railexu.track.turnout_schema import CROSSING, DESIGN, SWITCH, TURNOUT
 from railexu.track.variable_rails_schema import VARIABLE_RAILS
 from railexu.track.vertical_schema import VERTICAL
 
@@ -163,6 +164,8 @@ TRACK = Schema(
               default={"type": "none"}, models=IRREGULARITIES, selector="type"),
         Field("variable_rails", "a switch or crossing: rails that vary along a zone, by `type`",
               "model", default={"type": "none"}, models=VARIABLE_RAILS, selector="type"),
+        Field("turnout", "a turnout's route as the track (generates `geometry` and "
+              "`variable_rails`)", "section", default=OPTIONAL, schema=TURNOUT),
     ),
     "The top level of a track file.",
 )  # fmt: skip
@@ -178,6 +181,10 @@ DOC_TABLES = (
     ("`irregularities` with `type: spectrum`", IRREGULARITIES["spectrum"]),
     ("`irregularities` with `type: measured`", IRREGULARITIES["measured"]),
     ("`variable_rails` with `type: slices`", VARIABLE_RAILS["slices"]),
+    ("`turnout`", TURNOUT),
+    ("Turnout design file (`tracks/turnouts/*.yaml`)", DESIGN),
+    ("Turnout design: `switch`", SWITCH),
+    ("Turnout design: `crossing`", CROSSING),
 )
 
 

@@ -40,6 +40,7 @@ from railexu.track.irregularities import (
     synthesize_irregularities,
 )
 from railexu.track.schema import IRREGULARITIES, MAX_LENGTH_M, MAX_SAMPLES, TRACK, synthetic_samples
+from railexu.track.turnout_file import turnout_from_dict
 from railexu.track.variable_rails import VariableRails
 from railexu.track.variable_rails_file import variable_rails_from_dict
 from railexu.track.vertical import VerticalAlignment, vertical_from_dict
@@ -148,17 +149,23 @@ def track_from_dict(
     except ProfileError as exc:
         top.fail(str(exc), key="rail_profile")
     written, angle = TRACK.read(top, "inclination")
+    turnout = _turnout(top, rail, written, base_dir)  # a turnout's route: geometry and zone
     # the geometry and the track model are checked by their own modules (sections, measured
     # CSV; rigid or elastic), with file, line and key
-    alignment = alignment_from_dict(top.data.get("geometry"), source, top.lines, base_dir)
-    geometry = "straight" if alignment.is_straight else str(top.data["geometry"]["type"])
+    geometry_data = top.data.get("geometry") if turnout is None else turnout[0]
+    alignment = alignment_from_dict(geometry_data, source, top.lines, base_dir)
+    geometry = "straight" if alignment.is_straight else str(geometry_data["type"])
     elastic = track_model_from_dict(top.data.get("track_model"), source, top.lines)
     vertical = vertical_from_dict(top.data.get("vertical"), source, top.lines, base_dir)
     start_m = TRACK.read(top, "start")
     end_m = alignment.end_m if alignment.end_m > 0.0 else None  # None: unbounded straight
     rails = variable_rails_from_dict(
         top.data.get("variable_rails"), source, top.lines, base_dir, end_m, start_m
-    )
+    ) if turnout is None else turnout[1]  # fmt: skip
+    if turnout is not None and rails.zone_m()[0] <= start_m + 1.0:
+        first = rails.zone_m()[0]
+        top.fail(f"the turnout's first rail at {first:g} m is not beyond the run's start "
+                 f"({start_m:g} m + 1 m): lengthen turnout.approach", key="turnout")  # fmt: skip
     kind, params = TRACK.read(top, "irregularities")
     irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
     if kind == "spectrum":
@@ -182,6 +189,21 @@ def track_from_dict(
         start_m=start_m,
         variable_rails=rails,
     )
+
+
+def _turnout(top: Section, rail: str, inclination, base_dir: Path | None):
+    """``(geometry section, variable rails)`` of a ``turnout:`` section, or None without one
+    (``railexu.track.turnout_file``); it excludes ``geometry`` and ``variable_rails``."""
+    if top.data.get("turnout") is None:
+        return None
+    for key in ("geometry", "variable_rails"):
+        if key in top.data:
+            top.fail("given with 'turnout', which generates it: remove one of them", key=key)
+    gauge = TRACK.read(top, "gauge")
+    geometry, rails, _ = turnout_from_dict(
+        top.data["turnout"], top.source, top.lines, base_dir, rail, inclination, gauge
+    )
+    return geometry, rails
 
 
 def _inclination_value(written: object, angle_rad: float) -> str | float:
