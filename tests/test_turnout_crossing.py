@@ -68,3 +68,27 @@ def test_panels_join_the_plain_track_without_a_step(route):
     assert sum("switch panel" in n for n in names) == 1
     assert sum(n.endswith("uk_crossing_full.yaml") for n in names) == 1
     assert sum(n.endswith("check_rail_thr.yaml") for n in names) == 1
+
+
+def test_plain_stations_share_one_table_to_the_last_bit():
+    """Stations whose effective section lies on the plain rail between the panels get the one
+    plain table computed once (``station_tables(share_plain=True)``), the same numbers as
+    computing every station: across the switch panel's end (its last slices, the boundary,
+    the plain stretch) the tables are identical to the last bit, so a run's wheel forces are
+    the same."""
+    import numpy as np
+
+    from railexu.contact.variable_tables import station_tables
+
+    track = load_track("turnout_uk_r245_through_facing")
+    rails = track.variable_rails
+    pair = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track).left
+    end = rails.left.panels[0].range_m[1]  # the switch panel's last slice
+    stations = end + rails.station_step_m * np.arange(-4, 12)
+    plain = [rails.left.is_plain_over(s - rails.x_max_m, s + rails.x_max_m) for s in stations]
+    assert 5 <= sum(plain) < len(stations)
+    shared, info_a = station_tables(rails.left, pair, stations, x_max_m=rails.x_max_m)
+    each, info_b = station_tables(rails.left, pair, stations, x_max_m=rails.x_max_m,
+                                  share_plain=False)  # fmt: skip
+    np.testing.assert_array_equal(info_a, info_b)
+    np.testing.assert_array_equal(shared, each)

@@ -153,9 +153,15 @@ def station_tables(
     rail_origin_m: tuple[float, float] | None = None,
     x_max_m: float = 0.06,
     curvature_smoothing_m: float = 5.0e-4,
+    share_plain: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Kernel tables ``(n_stations, n, columns)`` of the variable rail at the stations ``s``
     [m] (the profile's own ``s``) on one common grid, and its info ``(y0, step, n)``.
+
+    A station whose effective section lies on the plain rail between a zoned profile's panels
+    (``rail.is_plain_over``, :class:`~railexu.profiles.variable.zoned.ZonedProfile`) has the
+    same table as every other such station: it is computed once (``share_plain``; the same
+    numbers as computing each, to the last bit: the same curves on the same grid).
 
     Blending two neighbouring tables linearly gives the table of the blended surface; its
     curvature-bound columns stay valid bounds (a bound of a convex combination is at most the
@@ -173,8 +179,11 @@ def station_tables(
     tabs = []
     first, last = rail.s_range_m
     constant: dict = {}  # before the first / after the last slice the profile does not change
+    plain_over = getattr(rail, "is_plain_over", None)  # a zoned profile's plain stretches
     for s in stations_m:  # in order: sections behind the effective section are dropped
         side = "before" if s + x_max_m < first else "after" if s - x_max_m > last else None
+        if side is None and share_plain and plain_over is not None:
+            side = "plain" if plain_over(s - x_max_m, s + x_max_m) else None
         if side in constant:
             tabs.append(constant[side])
             continue
