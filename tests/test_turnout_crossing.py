@@ -92,3 +92,56 @@ def test_plain_stations_share_one_table_to_the_last_bit():
                                   share_plain=False)  # fmt: skip
     np.testing.assert_array_equal(info_a, info_b)
     np.testing.assert_array_equal(shared, each)
+
+
+def test_shared_rows_give_the_same_run_through_the_switch_panel(monkeypatch):
+    """The kernel's station store keeps one row for the stations with the same table (the
+    plain rail between the panels) and each station reads its row by index: a run of the
+    wheelset through the switch panel and onto the plain stretch gives the same wheel forces
+    with the shared store as with one row per station (the store before issue 29's change),
+    to the last bit (the same numbers blended the same way)."""
+    import functools
+
+    import numpy as np
+
+    from railexu.model import assembly, sc_tables
+    from railexu.results.run import RunSettings, run
+
+    real = sc_tables.station_table_set
+    built: dict = {}
+
+    def once(profile, pair, stations, **kw):  # both runs read the same tables: build them once
+        key = (id(profile), stations.size)
+        if key not in built:
+            built[key] = real(profile, pair, stations, **kw)
+        return built[key]
+
+    monkeypatch.setattr(sc_tables, "station_table_set", once)
+    sets = ["turnout.station_step=0.25 m"]
+    lo, _ = load_track("turnout_uk_r245_through_facing", sets).variable_rails.zone_m()
+    track = load_track("turnout_uk_r245_through_facing", [*sets, f"start={lo - 2.0} m"])
+    rails = track.variable_rails
+    end = rails.start_m + rails.left.panels[0].range_m[1]  # the switch panel's last slice
+    settings = RunSettings(speed_m_per_s=10.0, distance_m=end + 3.0 - (lo - 1.0),
+                           initial_lateral_m=0.0)  # fmt: skip
+    vehicle = load_vehicle("wheelset")
+    out = {}
+    for share in (True, False):
+        fields = functools.partial(sc_tables.sc_kernel_fields, share_rows=share)
+        monkeypatch.setattr(assembly, "sc_kernel_fields", fields)
+        out[share] = run(vehicle, track, settings)
+    # the store: every station and side reads the same table from the shared rows, in fewer
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
+    stores = [sc_tables.sc_kernel_fields(rails, geometry, 5.0e-4, share_rows=share)
+              for share in (True, False)]  # fmt: skip
+    for k in range(2):
+        rows = [f["sc_tab"][f["sc_index"][:, k]] for f in stores]
+        np.testing.assert_array_equal(rows[0], rows[1])
+    assert stores[0]["sc_tab"].shape[0] < 0.8 * stores[1]["sc_tab"].shape[0]
+    for share, result in out.items():
+        assert result.status["state"] == "completed", (share, result.status)
+    shared, each = out[True].timeseries, out[False].timeseries
+    s = np.asarray(shared["ws1_s_m"])
+    assert s.max() > end + 2.0  # onto the plain stretch
+    for column in ("ws1_left_Q_N", "ws1_left_Y_N", "ws1_right_Q_N", "ws1_right_Y_N"):
+        np.testing.assert_array_equal(np.asarray(shared[column]), np.asarray(each[column]))
