@@ -97,7 +97,9 @@ def _best(f, repeat: int = 5) -> float:
 
 def blend_costs(fields: dict, n: int = 2000) -> None:
     """Per call of the blend, before and now, per side's station tables."""
-    tab = fields["sc_tab"]
+    # the per-station view of the store (rows read per station and side: model/sc_tables.py)
+    sides = [k for k in range(2) if fields["sc_side"][k] >= 0]
+    tab = np.stack([fields["sc_tab"][fields["sc_index"][:, k]] for k in sides], axis=1)
     print(f"station tables: {tab.shape[0]} stations x {tab.shape[1]} sides x {tab.shape[2]} rows "
           f"x {tab.shape[3]} columns ({tab.nbytes / 1e6:.0f} MB)")  # fmt: skip
     i, t = tab.shape[0] // 2, 0.37

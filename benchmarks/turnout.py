@@ -12,6 +12,11 @@ Run: ``python benchmarks/turnout.py [vehicle] [route] [direction] [--speed 10] [
 starts 12 m before the first panel (the longest wagon's wheelbase) and ends 3 m beyond the last
 rail of the turnout; ``--panels switch`` or ``crossing`` times a shorter zone. Timings vary by
 tens of percent on a shared machine; compare the ratio of one run of this script.
+
+``--store``: only the station store's build, before and after issue 29's sharing (every
+station's table computed and stored, against the plain rail's computed once and stored in one
+row): build seconds, the store's MB and rows, and whether the two give the same table at every
+station (to the last bit).
 """
 
 from __future__ import annotations
@@ -21,6 +26,10 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
+from railexu.model.assembly import wheelset_geometry
+from railexu.model.sc_tables import sc_kernel_fields
 from railexu.results.run import RunSettings, run
 from railexu.track.track import load_track
 from railexu.vehicle.vehicle import load_vehicle
@@ -36,6 +45,7 @@ def main() -> None:
     ap.add_argument("--speed", type=float, default=10.0, help="m/s")
     ap.add_argument("--step-m", type=float, default=None, help="station step [m]")
     ap.add_argument("--panels", default="both", choices=("both", "switch", "crossing"))
+    ap.add_argument("--store", action="store_true", help="only the station store, before/after")
     a = ap.parse_args()
     vehicle = load_vehicle(ROOT / "vehicles" / f"{a.vehicle}.yaml")
     file = ROOT / "tracks" / f"turnout_uk_r245_{a.route}_{a.direction}.yaml"
@@ -45,6 +55,9 @@ def main() -> None:
     lo, hi = load_track(file, sets).variable_rails.zone_m()
     start = lo - 13.0
     turnout = load_track(file, [*sets, f"start={start} m"])
+    if a.store:
+        store(vehicle, turnout)
+        return
     plain = replace(turnout, variable_rails=None)
     settings = RunSettings(speed_m_per_s=a.speed, distance_m=hi - lo + 15.0, initial_lateral_m=0.0)
     run(vehicle, plain, replace(settings, distance_m=1.0))  # warm-up: kernels loaded
@@ -64,6 +77,31 @@ def main() -> None:
     (pb, pi, pw, _), (tb, ti, tw, _) = rows["plain"], rows["turnout"]
     print(f"ratio turnout / plain: build {tb / pb:.1f}, integration {ti / pi:.2f}, "
           f"whole run {tw / pw:.2f}")  # fmt: skip
+
+
+def store(vehicle, track) -> None:
+    """The station store built before (every station its own table) and after the sharing."""
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
+    rails = track.variable_rails
+    out = {}
+    for name, share in (("before", False), ("after", True)):
+        t0 = time.perf_counter()
+        f = sc_kernel_fields(rails, geometry, 5.0e-4, share_tables=share, share_rows=share)
+        out[name] = (time.perf_counter() - t0, f)
+    lo, hi = rails.zone_m()
+    print(
+        f"station store, zone {lo:.2f} .. {hi:.2f} m, stations every "
+        f"{rails.station_step_m * 1e3:g} mm, {out['after'][1]['sc_index'].shape[0]} stations"
+    )
+    for name, (t, f) in out.items():
+        print(f"{name:7s} build {t:7.1f} s  store {f['sc_tab'].nbytes / 1e6:8.1f} MB  "
+              f"rows {f['sc_tab'].shape[0]}")  # fmt: skip
+    a, b = out["before"][1], out["after"][1]
+    same = all(
+        np.array_equal(a["sc_tab"][a["sc_index"][:, k]], b["sc_tab"][b["sc_index"][:, k]])
+        for k in range(2) if a["sc_side"][k] >= 0
+    )  # fmt: skip
+    print(f"the same table at every station and side: {same}")
 
 
 if __name__ == "__main__":

@@ -153,13 +153,42 @@ def station_tables(
     rail_origin_m: tuple[float, float] | None = None,
     x_max_m: float = 0.06,
     curvature_smoothing_m: float = 5.0e-4,
+    share_plain: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Kernel tables ``(n_stations, n, columns)`` of the variable rail at the stations ``s``
-    [m] (the profile's own ``s``) on one common grid, and its info ``(y0, step, n)``.
+    [m] (the profile's own ``s``) on one common grid, and its info ``(y0, step, n)``: one
+    table per station (:func:`station_table_set` keeps the plain rail's once).
 
     Blending two neighbouring tables linearly gives the table of the blended surface; its
     curvature-bound columns stay valid bounds (a bound of a convex combination is at most the
     combination of the bounds), so the kernel's search stays exact on the blend.
+    """
+    tabs, index, info = station_table_set(
+        rail, pair, stations_m, rail_origin_m=rail_origin_m, x_max_m=x_max_m,
+        curvature_smoothing_m=curvature_smoothing_m, share_plain=share_plain,
+    )  # fmt: skip
+    return np.ascontiguousarray(tabs[index]), info
+
+
+def station_table_set(
+    rail: VariableProfile,
+    pair: WheelRailPair,
+    stations_m: np.ndarray,
+    *,
+    rail_origin_m: tuple[float, float] | None = None,
+    x_max_m: float = 0.06,
+    curvature_smoothing_m: float = 5.0e-4,
+    share_plain: bool = True,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The distinct kernel tables ``(n_tables, n, columns)`` of the stations, which table each
+    station has (``(n_stations,)`` int64) and the grid's info ``(y0, step, n)``.
+
+    Stations before the profile's first slice, after its last, and those whose effective
+    section lies on the plain rail between a zoned profile's panels (``rail.is_plain_over``,
+    :class:`~railexu.profiles.variable.zoned.ZonedProfile`) have the same table as every other
+    such station: it is computed and kept once (``share_plain``; the same numbers as computing
+    each, to the last bit: the same curves on the same grid). A turnout's 20 m of plain rail
+    between its panels is one table instead of ~400.
     """
     origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
     step = pair.rail_table.step_m
@@ -170,21 +199,26 @@ def station_tables(
                 lo, hi = min(lo, y[0]), max(hi, y[-1])
     n = int(np.floor((hi - lo) / step)) + 1
     cache: dict = {}
-    tabs = []
+    tabs: list[np.ndarray] = []
+    index = np.zeros(len(stations_m), dtype=np.int64)
     first, last = rail.s_range_m
     constant: dict = {}  # before the first / after the last slice the profile does not change
-    for s in stations_m:  # in order: sections behind the effective section are dropped
+    plain_over = getattr(rail, "is_plain_over", None)  # a zoned profile's plain stretches
+    for j, s in enumerate(stations_m):  # in order: sections behind the effective section dropped
         side = "before" if s + x_max_m < first else "after" if s - x_max_m > last else None
+        if side is None and share_plain and plain_over is not None:
+            side = "plain" if plain_over(s - x_max_m, s + x_max_m) else None
         if side in constant:
-            tabs.append(constant[side])
+            index[j] = constant[side]
             continue
         tabs.append(
             section_rail_arrays(rail, float(s), pair, rail_origin_m=origin, x_max_m=x_max_m,
                                 curvature_smoothing_m=curvature_smoothing_m, grid=(lo, n),
                                 cache=cache)[0]
         )  # fmt: skip
+        index[j] = len(tabs) - 1
         if side is not None:
-            constant[side] = tabs[-1]
+            constant[side] = index[j]
         for key in [k for k in cache if k < round((s - x_max_m) * 1e9) - 1]:
             del cache[key]
-    return np.ascontiguousarray(np.stack(tabs)), np.array([lo, step, float(n)])
+    return np.stack(tabs), index, np.array([lo, step, float(n)])

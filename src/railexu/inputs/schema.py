@@ -205,7 +205,9 @@ def _quantity(sec: Section, f: Field) -> float | None:
                         maximum=f.maximum, positive=f.positive)  # fmt: skip
 
 
-def _vector(sec: Section, f: Field) -> tuple[float, ...]:
+def _vector(sec: Section, f: Field) -> tuple[float, ...] | None:
+    if f.default is OPTIONAL and f.key not in sec.data:
+        return None
     default = None if f.default in (REQUIRED, OPTIONAL) else f.default
     n = len(f.components)
     value = sec.vector(f.key, f.unit, n=n, default=default, components=f.components)

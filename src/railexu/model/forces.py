@@ -104,7 +104,8 @@ WL_SIZE = 9
 
 
 #: No switch-and-crossing zone: empty station tables (``KernelData.sc_tab``) and their sides.
-NO_SC_TAB = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
+NO_SC_TAB = np.zeros((0, 1, K.N_TABLE_COLUMNS))
+NO_SC_INDEX = np.zeros((0, 2), dtype=np.int64)
 NO_SC_SIDE = np.full(2, -1, dtype=np.int64)
 NO_SC_INFO = np.zeros((2, 3))
 NO_SC_CACHE = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
@@ -154,8 +155,9 @@ class KernelData(NamedTuple):
     # sc_start + i sc_step, blended linearly by the wheelset's track position inside the zone
     sc_start: float = 0.0  # track distance of the first station [m]
     sc_step: float = 1.0  # distance between stations [m]
-    sc_tab: np.ndarray = NO_SC_TAB  # (n_stations, n_sides, M, columns); no stations: plain
-    sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_tab's axis 1, -1: plain rail
+    sc_tab: np.ndarray = NO_SC_TAB  # (n_rows, M, columns): the distinct station tables
+    sc_index: np.ndarray = NO_SC_INDEX  # (n_stations, 2) int64: each station's row per side
+    sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_cache's axis 1, -1: plain
     sc_info: np.ndarray = NO_SC_INFO  # per side the station tables' grid (y0, step, n)
     # per wheelset and side its blended table (sc_cache), the station whose bound columns it
     # holds (sc_key, -1: none) and the blend fraction of its base columns (sc_t): written by
@@ -337,7 +339,7 @@ def _blend_station(d, w, i, t, side):
     one track position, its Jacobian's columns but the longitudinal one, reuse it)."""
     j = d.sc_side[side]
     out = d.sc_cache[w, j]
-    a = d.sc_tab[i, j]
+    a = d.sc_tab[d.sc_index[i, side]]
     if d.sc_key[w, side] != i:
         for r in range(out.shape[0]):
             for c in range(K.T_SLOPE_MAX, out.shape[1]):
@@ -345,7 +347,7 @@ def _blend_station(d, w, i, t, side):
         d.sc_key[w, side] = i
         d.sc_t[w, side] = np.nan
     if d.sc_t[w, side] != t:
-        b = d.sc_tab[i + 1, j]
+        b = d.sc_tab[d.sc_index[i + 1, side]]
         for r in range(out.shape[0]):
             for c in range(K.T_SLOPE_MAX):
                 out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
@@ -405,7 +407,7 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             rails[4 * side + 3] += qt[r + 2 * side + 1]
     rtab_l, rinfo_l, rtab_r, rinfo_r = d.rtab[0], d.rinfo[0], d.rtab[1], d.rinfo[1]
     end = work.shape[0]
-    n_st = d.sc_tab.shape[0]
+    n_st = d.sc_index.shape[0]
     if n_st > 1:
         # switches and crossings: inside the zone, the stations' tables blended at the wheelset
         u = (d.ws_local[w, WL_S] - d.sc_start) / d.sc_step

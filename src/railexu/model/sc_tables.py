@@ -6,8 +6,9 @@ its effective section at every station (:func:`railexu.contact.variable_tables.s
 placed on that side's rail like the track's rail profile). :mod:`railexu.model.forces` blends the
 two stations around a wheelset linearly. The effective section depends on the wheel's radius:
 the first wheelset's wheels are used for all (a vehicle's wheels usually share profile and
-radius). Memory: ``n_stations x sides x rows x columns x 8`` bytes (a 0.6 m zone at 10 mm
-with a 150 mm wide crossing: ~ 40 MB).
+radius). Memory: ``n_distinct x rows x columns x 8`` bytes, one row per station and side
+whose table (with its neighbour's bounds) is not another's: the plain rail between a
+turnout's panels is one row (a 0.6 m zone at 10 mm with a 150 mm wide crossing: ~ 40 MB).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import numpy as np
 
 from railexu.contact import kernel as K
 from railexu.contact.placement import WheelsetGeometry
-from railexu.contact.variable_tables import station_tables
+from railexu.contact.variable_tables import station_table_set
 from railexu.track.variable_rails import VariableRails
 
 
@@ -25,43 +26,85 @@ def sc_kernel_fields(
     geometry: WheelsetGeometry,
     curvature_smoothing_m: float,
     n_wheelsets: int = 1,
+    *,
+    share_tables: bool = True,
+    share_rows: bool = True,
 ) -> dict:
     """The ``sc_*`` fields of :class:`railexu.model.forces.KernelData` (empty: no zone): the
-    station tables with pair-envelope bounds (:func:`pair_envelope_bounds`) and each
+    distinct station tables with pair-envelope bounds (``sc_tab``, :func:`envelope_rows`),
+    which of them each station and side reads (``sc_index``, -1: plain rail there) and each
     wheelset's blend cache (``sc_cache``: its blended table per side; ``sc_key``: the station
-    ``i`` whose bounds it holds, -1 none; ``sc_t``: the blend fraction of its base columns)."""
+    ``i`` whose bounds it holds, -1 none; ``sc_t``: the blend fraction of its base columns).
+
+    Stations with the same table (the plain rail between a turnout's panels) have it computed
+    once (``share_tables``, :func:`railexu.contact.variable_tables.station_table_set`) and
+    share one row of ``sc_tab`` (``share_rows``); ``False`` computes, or stores, each
+    station's own (the same numbers: for checks and the benchmark's "before")."""
     if rails is None:
         return {}
     lo, hi = rails.zone_m()
     n = int(np.floor((hi - lo) / rails.station_step_m)) + 1
     stations = lo + rails.station_step_m * np.arange(max(n, 2))
-    tabs, infos, side_index = [], np.zeros((2, 3)), np.full(2, -1, dtype=np.int64)
+    sets, infos, side_index = [], np.zeros((2, 3)), np.full(2, -1, dtype=np.int64)
     for k, (profile, pair) in enumerate(zip(rails.sides(), geometry.pairs, strict=True)):
         if profile is None:
             continue
-        tab, info = station_tables(
+        tabs, index, info = station_table_set(
             profile, pair, stations - rails.start_m, rail_origin_m=rails.rail_origin_m,
             x_max_m=rails.x_max_m, curvature_smoothing_m=curvature_smoothing_m,
+            share_plain=share_tables,
         )  # fmt: skip
-        side_index[k] = len(tabs)
-        tabs.append(tab)
+        if not share_rows:  # every station its own row
+            tabs, index = tabs[index], np.arange(index.size, dtype=np.int64)
+        side_index[k] = len(sets)
+        sets.append((k, tabs, index))
         infos[k] = info
-    rows = max(t.shape[1] for t in tabs)
-    out = np.zeros((stations.size, len(tabs), rows, tabs[0].shape[2]))
-    for j, tab in enumerate(tabs):
-        out[:, j, : tab.shape[1]] = tab
-        out[:, j, tab.shape[1] :] = tab[:, -1:]  # rows beyond a shorter grid: never read
-    pair_envelope_bounds(out)
+    rows = max(t.shape[1] for _, t, _ in sets)
+    table, station_rows = envelope_rows(sets, rows, stations.size)
     return {
-        "sc_cache": np.zeros((n_wheelsets, len(tabs), rows, out.shape[3])),
+        "sc_cache": np.zeros((n_wheelsets, len(sets), rows, table.shape[2])),
         "sc_key": np.full((n_wheelsets, 2), -1, dtype=np.int64),
         "sc_t": np.full((n_wheelsets, 2), np.nan),
         "sc_start": float(stations[0]),
         "sc_step": float(rails.station_step_m),
-        "sc_tab": out,
+        "sc_tab": table,
+        "sc_index": station_rows,
         "sc_side": side_index,
         "sc_info": infos,
     }
+
+
+def envelope_rows(
+    sets: list[tuple[int, np.ndarray, np.ndarray]], rows: int, n_stations: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's station store: ``(n_rows, rows, columns)`` tables and ``(n_stations, 2)``
+    the row each station and side reads (-1: no variable profile on that side).
+
+    Station ``i``'s row is its table with bound columns enveloping stations ``i`` and
+    ``i + 1`` (:func:`pair_envelope_bounds`), so it depends on the pair of their distinct
+    tables only: one row per distinct pair (the plain stretch between panels: one row).
+
+    Args:
+        sets: per side ``(side, distinct tables (n_tables, m, C), table of each station)``.
+        rows: the common number of rows (a side's shorter grid padded with its last row: rows
+            beyond a side's grid are never read).
+        n_stations: the number of stations.
+    """
+    out: list[np.ndarray] = []
+    station_rows = np.full((n_stations, 2), -1, dtype=np.int64)
+    for side, tabs, index in sets:
+        padded = np.concatenate([tabs, np.repeat(tabs[:, -1:], rows - tabs.shape[1], axis=1)],
+                                axis=1)  # fmt: skip
+        seen: dict[tuple[int, int], int] = {}
+        for i in range(n_stations):
+            key = (int(index[i]), int(index[i + 1]) if i + 1 < n_stations else -1)
+            if key not in seen:
+                pair = padded[[key[0], key[1]]] if key[1] >= 0 else padded[[key[0]]]
+                pair_envelope_bounds(pair[:, None])
+                seen[key] = len(out)
+                out.append(pair[0])
+            station_rows[i, side] = seen[key]
+    return np.ascontiguousarray(np.stack(out)), station_rows
 
 
 def pair_envelope_bounds(tabs: np.ndarray) -> None:

@@ -5,7 +5,8 @@ builds the route's geometry (:func:`railexu.track.turnout.route_layout`, as a ``
 geometry) and its variable rails: on the side of the route's switch and crossing a
 :class:`~railexu.profiles.variable.zoned.ZonedProfile` with the switch panel (generated from the
 track's rail, :mod:`railexu.profiles.variable.switch_panel`) and the crossing panel
-(:func:`crossing_slices`), the track's rail between them. Every refusal names the file, the
+(:func:`crossing_slices`: the whole crossing) and on the other side the check rail, the
+track's rail between them. Every refusal names the file, the
 line and the key.
 """
 
@@ -34,27 +35,40 @@ from railexu.track.variable_rails_file import reversed_slices
 RAIL_POINT_STEP_M = 5.0e-5
 
 
-def crossing_slices(design: dict, route: str, direction: str) -> ProfileSlices:
-    """The crossing's slices for a route and a direction of travel.
+def _read_slices(file: Path, text_unit: str) -> ProfileSlices:
+    """A slices file (CONTACT ``.slcs`` or railexu's YAML)."""
+    if file.suffix.lower() == ".slcs":
+        return read_slcs(file, scale_to_mm=1000.0 if text_unit == "m" else 1.0)
+    return read_yaml_slices(file)
 
-    Today the slices main ships (the S&C benchmark's UK crossing, slices 41-60: CONTACT's
-    ``uk_interrupt_v2.slcs``) for both routes: each side's profile is in its own axes, so the
-    diverging route's crossing (on the other side) is the same slices. Trailing runs them in
-    reverse (``s -> -s``). The whole crossing with its check rail replaces the slice set here.
+
+def crossing_slices(
+    design: dict, route: str, direction: str
+) -> tuple[ProfileSlices, ProfileSlices | None]:
+    """The crossing's slices (wing rail and nose) and the check rail's (None: no check rail)
+    for a route and a direction of travel.
+
+    The shipped design names the whole crossing (``tracks/uk_crossing/uk_crossing_full.yaml``,
+    plain rail to plain rail) and its check rail (``check_rail_thr.yaml``), given for the
+    through route. The diverging route's crossing is its mirror image about the crossing's
+    bisector (railexu's assumption, docs/switches-and-crossings.md "The turnout"): as each
+    side's profile is in its own axes (field side positive), the mirror image is the same
+    slices on the other side of the track, which :func:`route_layout` gives (``side``). Trailing
+    runs them in reverse (``s -> -s``).
 
     Args:
         design: the design as read (:func:`read_design`), its ``crossing`` section resolved.
-        route: ``through`` or ``diverging`` (the same slices today).
+        route: ``through`` or ``diverging`` (the same slices, mirrored by the side).
         direction: ``facing`` or ``trailing``.
     """
     c = design["crossing"]
-    file = Path(c["slices"])
-    if file.suffix.lower() == ".slcs":
-        slices = read_slcs(file, scale_to_mm=1000.0 if c["text_unit"] == "m" else 1.0)
-    else:
-        slices = read_yaml_slices(file)
-    del route  # one slice set serves both routes until the whole crossing ships
-    return reversed_slices(slices) if direction == "trailing" else slices
+    del route  # the diverging route's crossing: the same slices on the other side
+    crossing = _read_slices(Path(c["slices"]), c["text_unit"])
+    check = None if c["check_rail"] is None else _read_slices(Path(c["check_rail"]), c["text_unit"])
+    if direction == "trailing":
+        crossing = reversed_slices(crossing)
+        check = None if check is None else reversed_slices(check)
+    return crossing, check
 
 
 def read_design(name: str, base_dir: Path | None, sec: Section) -> dict:
@@ -69,10 +83,13 @@ def read_design(name: str, base_dir: Path | None, sec: Section) -> dict:
         d["crossing_n"] = parse_crossing_rate(d["crossing_angle"])
     except ValueError as exc:
         top.fail(str(exc), key="crossing_angle")
-    slices = Path(resolve_file(d["crossing"]["slices"], file.parent))
-    if not slices.is_file():
-        top.fail(f"crossing slices {str(slices)!r} not found", key="crossing")
-    d["crossing"]["slices"] = str(slices)
+    for key, what in (("slices", "crossing slices"), ("check_rail", "check rail slices")):
+        if d["crossing"][key] is None:
+            continue
+        slices = Path(resolve_file(d["crossing"][key], file.parent))
+        if not slices.is_file():
+            top.fail(f"{what} {str(slices)!r} not found", key="crossing")
+        d["crossing"][key] = str(slices)
     d["source"] = str(file)
     d["section"] = top
     return d
@@ -94,18 +111,18 @@ def turnout_from_dict(
     geometry = TurnoutGeometry(design["radius"], design["crossing_n"], gauge_m)
     try:
         crossing = crossing_slices(design, t["route"], t["direction"])
-        facing = crossing if t["direction"] == "facing" else reversed_slices(crossing)
     except ProfileError as exc:
         dsec.fail(str(exc), key="crossing")
+    reach = [(float(c.positions_m[0]), float(c.positions_m[-1])) for c in crossing if c]
+    lo, hi = min(r[0] for r in reach), max(r[1] for r in reach)
     layout = route_layout(
         geometry, t["route"], t["direction"], design["hand"], approach_m=t["approach"],
         run_out_m=t["run_out"], s0_from_ip_m=design["crossing"]["s0_from_intersection"],
-        crossing_range_m=(float(facing.positions_m[0]), float(facing.positions_m[-1])),
+        crossing_range_m=(lo, hi) if t["direction"] == "facing" else (-hi, -lo),
     )  # fmt: skip
     pair = _placed_rail(rail, inclination, gauge_m, sec)
-    zoned, start = _zoned_profile(design, t, layout, crossing, pair, geometry, sec)
+    side, start = _zoned_profiles(design, t, layout, crossing, pair, geometry, sec)
     step = t["station_step"] if t["station_step"] is not None else design["station_step"]
-    side = {layout.side: zoned}
     rails = VariableRails(
         left=side.get("left"), right=side.get("right"), start_m=start,
         station_step_m=step,
@@ -115,13 +132,18 @@ def turnout_from_dict(
     return geometry_section, rails, layout
 
 
-def _zoned_profile(design, t, layout, crossing, pair, geometry, sec) -> tuple[ZonedProfile, float]:
-    """The route side's panels (switch from the track's rail, crossing slices) along the
-    zone, the plain rail between, and the track distance of the zone's first slice [m]."""
+def _zoned_profiles(
+    design, t, layout, crossing, pair, geometry, sec
+) -> tuple[dict[str, ZonedProfile], float]:
+    """Each side's panels along the zone, the plain rail between, and the track distance of the
+    zone's first slice [m]: on the route's side the switch panel (generated from the track's
+    rail) and the crossing (wing rail and nose), on the other side the check rail beside the
+    opposite running rail (:func:`crossing_slices`)."""
     y = np.arange(pair.rail.y_min, pair.rail.y_max, RAIL_POINT_STEP_M)
     head = np.column_stack([y, -pair.rail.height(y)])
     plain = extended_gauge_face(head)  # as the switch panel's slices continue it
-    panels = []
+    other = {"left": "right", "right": "left"}[layout.side]
+    panels: dict[str, list[Panel]] = {layout.side: [], other: []}
     if t["panels"] in ("both", "switch"):
         try:
             planing = SwitchPlaning(**{f"{k}_m": v for k, v in design["switch"].items()})
@@ -130,17 +152,26 @@ def _zoned_profile(design, t, layout, crossing, pair, geometry, sec) -> tuple[Zo
         except ProfileError as exc:
             design["section"].fail(str(exc), key="switch")
         sw = reversed_slices(sw) if layout.reversed else sw
-        panels.append(Panel(VariableProfile(sw), layout.toe_m))
+        panels[layout.side].append(Panel(VariableProfile(sw), layout.toe_m))
     if t["panels"] in ("both", "crossing"):
-        oy, oz = design["crossing"]["rail_origin"]
+        origin = design["crossing"]["rail_origin"]
         y0, z0 = pair.rail_origin_track_m
-        panels.append(Panel(VariableProfile(crossing), layout.crossing_s0_m, (oy - y0, z0 - oz)))
-    start = min(p.range_m[0] for p in panels)
-    panels = [Panel(p.profile, p.s0_m - start, p.offset_m) for p in panels]
-    try:
-        zoned = ZonedProfile(panels, plain, f"{design['source']} ({t['route']}, {t['direction']})")
-    except ProfileError as exc:
-        sec.fail(str(exc), key="design")
+        shift = (0.0, 0.0) if origin is None else (origin[0] - y0, z0 - origin[1])
+        nose, check = crossing
+        panels[layout.side].append(Panel(VariableProfile(nose), layout.crossing_s0_m, shift))
+        if check is not None:
+            panels[other].append(Panel(VariableProfile(check), layout.crossing_s0_m, shift))
+    start = min(p.range_m[0] for side in panels.values() for p in side)
+    zoned = {}
+    for name, side in panels.items():
+        if not side:
+            continue
+        moved = [Panel(p.profile, p.s0_m - start, p.offset_m) for p in side]
+        label = f"{design['source']} ({t['route']}, {t['direction']}, {name})"
+        try:
+            zoned[name] = ZonedProfile(moved, plain, label)
+        except ProfileError as exc:
+            sec.fail(str(exc), key="design")
     return zoned, start
 
 

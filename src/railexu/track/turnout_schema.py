@@ -65,13 +65,17 @@ CROSSING = Schema(
               "text"),
         Field("text_unit", "unit of the slices' text profiles", "text", default="mm",
               choices=("mm", "m")),
-        Field("rail_origin", "(y, z) of the slices' origin in the track's left-type axes",
-              "vector", unit="m", components=("y", "z"), minimum=-2.0, maximum=2.0),
+        Field("check_rail", "the check rail's slices beside the opposite running rail (.slcs "
+              "or YAML, relative to the design file; default none)", "text", default=OPTIONAL),
+        Field("rail_origin", "(y, z) of the slices' origin in the track's left-type axes "
+              "(default: the track's rail's own origin: the slices in its axes)", "vector",
+              unit="m", components=("y", "z"), minimum=-2.0, maximum=2.0, default=OPTIONAL),
         Field("s0_from_intersection", "track distance from the intersection of the gauge lines "
               "to the slices' s = 0 (railexu's assumption)", unit="m", default=0.0,
               minimum=-5.0, maximum=5.0),
     ),
-    "The crossing panel's slices (as main ships them; the whole crossing replaces them later).",
+    "The crossing panel: the crossing's slices (wing rail and nose) on the route's crossing "
+    "side, the check rail's beside the opposite running rail.",
 )  # fmt: skip
 
 #: The turnout design file (``tracks/turnouts/*.yaml``).
