@@ -123,16 +123,7 @@ class VariableProfile:
         does the value is ``+inf`` (no rail: the flangeway of an interrupted crossing, beyond the
         rails).
         """
-        s_m = np.atleast_1d(np.asarray(s_m, dtype=float))
-        y_m = np.asarray(y_m, dtype=float)
-        out = np.full((s_m.size, y_m.size), np.inf)
-        for j, s in enumerate(s_m):
-            for c in self.curves_at(float(s)):
-                inside = (y_m >= c[0, 0]) & (y_m <= c[-1, 0])
-                if np.any(inside):
-                    z = np.interp(y_m[inside], c[:, 0], c[:, 1])
-                    out[j, inside] = np.minimum(out[j, inside], z)
-        return out
+        return top_surface_heights(self.curves_at, s_m, y_m)
 
     def _check_no_folds(self) -> None:
         """Refuse neighbouring slices whose interpolated curve folds over halfway between."""
@@ -148,6 +139,22 @@ class VariableProfile:
                         f"{c[bad, 0] * 1e3:.3f} mm, z = {c[bad, 1] * 1e3:.3f} mm (the parts "
                         "do not correspond): add feature points at the edges or a slice between"
                     )
+
+
+def top_surface_heights(curves_at, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+    """``z(y)`` [m] (downwards) of the top surface at each ``s``, ``(len(s), len(y))``, from
+    ``curves_at(s)`` (the rail curves ``(n, 2)`` at ``s``): where several curves lie above one
+    ``y`` the topmost (smallest ``z``) counts; where none does the value is ``+inf``."""
+    s_m = np.atleast_1d(np.asarray(s_m, dtype=float))
+    y_m = np.asarray(y_m, dtype=float)
+    out = np.full((s_m.size, y_m.size), np.inf)
+    for j, s in enumerate(s_m):
+        for c in curves_at(float(s)):
+            inside = (y_m >= c[0, 0]) & (y_m <= c[-1, 0])
+            if np.any(inside):
+                z = np.interp(y_m[inside], c[:, 0], c[:, 1])
+                out[j, inside] = np.minimum(out[j, inside], z)
+    return out
 
 
 def _part_bounds(slices: ProfileSlices) -> tuple[np.ndarray, np.ndarray]:

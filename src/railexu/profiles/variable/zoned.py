@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from railexu.profiles.core import ProfileError
-from railexu.profiles.variable.interpolate import VariableProfile
+from railexu.profiles.variable.interpolate import VariableProfile, top_surface_heights
 from railexu.profiles.variable.slices import ProfileSlices
 
 
@@ -109,16 +109,7 @@ class ZonedProfile:
     def heights_on_grid(self, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
         """``z(y)`` [m] (down) of the top surface at each ``s`` (as
         :meth:`VariableProfile.heights_on_grid`: ``+inf`` where no rail lies)."""
-        s_m = np.atleast_1d(np.asarray(s_m, dtype=float))
-        y_m = np.asarray(y_m, dtype=float)
-        out = np.full((s_m.size, y_m.size), np.inf)
-        for j, s in enumerate(s_m):
-            for c in self.curves_at(float(s)):
-                inside = (y_m >= c[0, 0]) & (y_m <= c[-1, 0])
-                if np.any(inside):
-                    z = np.interp(y_m[inside], c[:, 0], c[:, 1])
-                    out[j, inside] = np.minimum(out[j, inside], z)
-        return out
+        return top_surface_heights(self.curves_at, s_m, y_m)
 
 
 __all__ = ["Panel", "ZonedProfile"]
