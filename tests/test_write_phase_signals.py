@@ -53,7 +53,13 @@ def _kill_myself(sig=signal.SIGTERM):
 
 
 def _run(out: Path, capsys) -> tuple[int, str]:
-    status = main([*RUN, "--out", str(out)])
+    # Ctrl-C as a terminal delivers it: a process started in the background of a
+    # non-interactive shell inherits SIGINT ignored, and then Python raises nothing for it
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        status = main([*RUN, "--out", str(out)])
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return status, capsys.readouterr().err
 
 
