@@ -84,7 +84,7 @@ def _load_grows(normal: np.ndarray) -> None:
 def _no_jump(model, force: np.ndarray) -> None:
     """The largest change of the force over one 1 um step, resolved at 1/8 um: a continuous
     force changes by at most about 1/8 of it (plus its curvature) over a sub-step; a jump keeps
-    its size (the bound of tests/test_contact_flange_root_patch.py)."""
+    its size (the bound of branch h5's flange-root patch test, issue 28)."""
     change = np.linalg.norm(np.diff(force, axis=0), axis=1)
     change = np.where(np.linalg.norm(force[1:], axis=1) < MAX_LOAD_N, change, 0.0)
     i = int(np.argmax(change))
