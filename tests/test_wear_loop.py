@@ -161,7 +161,8 @@ def test_cli_wear(tmp_path, capsys):
     bad = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
                  "speed: 20 m/s, lenght: 10 m}\n")  # fmt: skip
     assert main(["wear", "wheelset", str(bad), "--mileage", "1 km", "--out", str(out)]) == 2
-    assert "sections[0].lenght: unknown key" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "sections[0].lenght: unknown key. Did you mean 'length'?" in err
 
 
 def test_step_size_study(tmp_path):

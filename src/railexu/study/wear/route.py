@@ -26,6 +26,7 @@ from pathlib import Path
 
 from railexu.errors import InputError
 from railexu.inputs.reader import load_yaml
+from railexu.inputs.section import suggest
 from railexu.units import to_si
 
 #: straight lead-in before every section [m]
@@ -172,8 +173,10 @@ def _section_cases(sec, i: int, src: str, lines) -> list[RouteCase]:
                          key=f"sections[{i}]")  # fmt: skip
     for k in sec:
         if k not in _KEYS:
-            raise InputError(f"unknown key; a section has {', '.join(_KEYS)}", source=src,
-                             line=lines.get((*here, k)), key=f"sections[{i}].{k}")  # fmt: skip
+            raise InputError(
+                f"unknown key.{suggest(k, _KEYS)} A section has {', '.join(_KEYS)}",
+                source=src, line=lines.get((*here, k)), key=f"sections[{i}].{k}",
+            )  # fmt: skip
 
     def get(k, unit, lo, hi, default=None):
         if k not in sec:
