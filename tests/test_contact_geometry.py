@@ -71,11 +71,13 @@ def test_centred_wheelset_is_symmetric(s1002_uic60):
     left, right = res.result.wheel("left"), res.result.wheel("right")
     assert len(left) == len(right)
     for pl, pr in zip(left, right, strict=True):
-        assert pl.wheel_lateral_m == pytest.approx(pr.wheel_lateral_m, abs=1e-9)
-        assert pl.normal_force_N == pytest.approx(pr.normal_force_N, rel=1e-9)
-        assert pl.position_m[1] == pytest.approx(-pr.position_m[1], abs=1e-9)
-        assert pl.force_lat_N == pytest.approx(-pr.force_lat_N, abs=1e-6)
-    assert res.result.force_N[1] == pytest.approx(0.0, abs=1e-6)
+        # 1e-8 m, 1e-6: the load centroid sums the gap over the patch, whose last digits differ
+        # between the mirrored tables (a nanometre, 0.1 mN, 0.01 mN laterally: no consequence)
+        assert pl.wheel_lateral_m == pytest.approx(pr.wheel_lateral_m, abs=1e-8)
+        assert pl.normal_force_N == pytest.approx(pr.normal_force_N, rel=1e-6)
+        assert pl.position_m[1] == pytest.approx(-pr.position_m[1], abs=1e-8)
+        assert pl.force_lat_N == pytest.approx(-pr.force_lat_N, abs=1e-4)
+    assert res.result.force_N[1] == pytest.approx(0.0, abs=1e-4)
 
 
 def test_mirror_symmetry_of_a_moving_wheelset(s1002_uic60):
@@ -148,14 +150,24 @@ def test_kernel_agrees_with_general_parametric_search(s1002_uic60, y, roll, yaw)
                     assert kp.position_m[0] == pytest.approx(gp.wheel_point_m[0], abs=2e-6)
                     assert kp.contact_angle_rad == pytest.approx(gp.contact_angle_rad, abs=2e-5)
                 else:
-                    assert kp.penetration_m == pytest.approx(
-                        -gp.normal_distance_m, rel=2e-3, abs=1e-8
+                    # the minimum's vertical gap along the general method's normal (the kernel's
+                    # force acts at the patch's load centroid since issue 28, so its reported
+                    # angle and approach are the centroid's: docs/contact-model.md)
+                    # (paired by depth: the centroid of a patch may lie nearer another minimum)
+                    gp = min(
+                        general_pts,
+                        key=lambda c, kp=kp: abs(
+                            kp.gap_m * np.cos(c.contact_angle_rad) - c.normal_distance_m
+                        ),
                     )
-                    # angle: the two points sit ~delta apart on surfaces of curvature kappa
-                    kappa = max(abs(kp.wheel_curvature_lat_per_m), abs(kp.rail_curvature_lat_per_m))
-                    assert kp.contact_angle_rad == pytest.approx(
-                        gp.contact_angle_rad, abs=5e-5 * kappa + 2e-5
-                    )
+                    depth = -kp.gap_m * np.cos(gp.contact_angle_rad)
+                    assert depth == pytest.approx(-gp.normal_distance_m, rel=2e-3, abs=1e-8)
+                    # the centroid and the minimum both lie inside the patch, so closer than
+                    # its width: 2 sqrt(eps d / B) for a parabolic gap, and at least the 15.5 mm
+                    # of the nearly conformal centred tread (Kik-Piotrowski, docs/validation.md)
+                    b_lat = 0.5 * (kp.wheel_curvature_lat_per_m + kp.rail_curvature_lat_per_m)
+                    width = max(2.0 * np.sqrt(0.55 * depth / max(b_lat, 1.0)), 0.0155)
+                    assert abs(kp.wheel_lateral_m - gp.wheel_s_m) < width
     # at least one touching point per wheel was compared
     assert rc.vertical_m > 0.45
 

@@ -50,8 +50,9 @@ def test_two_point_contact_is_found_at_both_poses():
     for pose in POSES:
         points, total = _right_wheel(model, pose)
         angles = sorted(abs(p.contact_angle_rad) for p in points if p.normal_force_N > 0.0)
-        assert len(angles) == 2 and angles[0] == pytest.approx(0.54, abs=0.02)
-        assert angles[1] == pytest.approx(1.22, abs=0.02)
+        # the points are the patches' load centroids (issue 28): the two minima (0.54 and
+        # 1.22 rad) share one valley of the gap, so both centroids lie between them
+        assert len(angles) == 2 and 0.52 < angles[0] <= angles[1] < 1.24
         totals.append(total)
     # Hertz: dN/d(delta) = 1.5 N / delta ~ 1.5 * 140 kN / 0.15 mm ~ 1.4 kN/um; the poses differ
     # by 0.03 um in position, so the force by some 50 N: 1 kN leaves room for the damping term

@@ -139,8 +139,16 @@ def test_free_wheelset_rolls_at_the_pure_rolling_position():
 
 def test_large_cant_deficiency_puts_the_leading_outer_wheel_on_its_flange():
     """R 300 m, 150 mm cant, at the speed of 150 mm cant deficiency (EN 13803:
-    I = 1.5 V^2/(g R) - D): the leading outer wheel of the EU07 runs on its flange (contact
-    angle near the flange angle, 70 deg for S1002), the inner wheel on its tread."""
+    I = 1.5 V^2/(g R) - D): the leading outer wheel of the EU07 runs on its flange, the inner
+    wheel on its tread. The outer wheel's patch spans the flange root (0.4 rad) to the flange
+    (1.22 rad); the reported contact angle is its load's centroid (issue 28,
+    docs/contact-model.md): 0.649 rad measured, beyond every tread angle (the inner wheel:
+    0.008 rad) and past the flange root. The patch's deepest point, reported before issue 28,
+    lay on the flange (1.2225 rad); the wheelset's shift (-6.11 vs -6.14 mm), yaw (-8.06 vs
+    -8.10 mrad) and the outer wheel's Y (60.3 vs 60.7 kN) and Q (132.4 vs 132.5 kN) are the same
+    within 0.7 %: only the reported point moved. With the force along the centroid's normal,
+    Y/Q = (tan 37 deg - t) / (1 + t tan 37 deg) = 0.457 (measured) needs a lateral creep force
+    t = 0.22 Q against it, below the friction coefficient: consistent."""
     vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
     track = load_track(ROOT / "tracks" / "curve_r300.yaml")
     speed = math.sqrt((0.15 + 0.15) * G * 300.0 / 1.5)  # 24.3 m/s
@@ -151,7 +159,8 @@ def test_large_cant_deficiency_puts_the_leading_outer_wheel_on_its_flange():
     steady = ts["ws1_s_m"] > 100.0 + 70.0 + 40.0
     outer = ts["ws1_right_max_angle_rad"][steady]
     inner = ts["ws1_left_max_angle_rad"][steady]
-    assert np.median(outer) > math.radians(50.0)
+    # the load's centroid past the flange root (0.4 rad = 23 deg), not on the tread
+    assert np.median(outer) > math.radians(30.0)
     assert np.max(np.abs(inner)) < math.radians(10.0)
     assert result.summary["curving"]["curves"][0]["cant_deficiency_m"] == pytest.approx(0.15)
 

@@ -115,33 +115,44 @@ def test_static_equilibrium_wheel_loads_and_symmetry():
 
 
 def test_time_step_against_fine_reference():
-    """The default 2 ms step against a 0.25 ms reference on the seed scenario's start (EU07,
-    10 m/s, 2 mm). Measured: lateral displacements within 0.7 um, lateral forces within 230 N
-    in the start-up transient (peak 3.3 kN at 0.24 s) and within 45 N after 0.5 s; the error
-    falls by ~4 per halving of the step (second order). Asserted with margin: 0.1 % of the
-    offset; 8 % of the peak force over the run, 2 % after 0.5 s."""
+    """The default 2 ms step (and 1 ms) against a 0.25 ms reference on the seed scenario's start
+    (EU07, 10 m/s, 2 mm). Measured (contact force at the patch's load centroid, issue 28): peak
+    lateral wheel force 2.55 kN; the largest difference is at the first output sample (0.01 s,
+    the creep forces building up from the initial state): 201 N at 2 ms, 45 N at 1 ms (a factor
+    4.5 per halving, second order); after 0.5 s 13 N and 6 N. Lateral displacements within
+    0.7 um.
+    Asserted with margin: 0.1 % of the offset; after 0.5 s 2 % of the peak; over the run 10 % of
+    the peak at 2 ms and 3 % at 1 ms, and the error at least 3 times smaller at 1 ms (a step
+    error, not a model change, is what the start-up difference is)."""
     vehicle = load_vehicle(VEHICLES / "eu07.yaml")
     common = dict(speed_m_per_s=10.0, distance_m=30.0, initial_lateral_m=0.002)
     coarse = run(vehicle, None, RunSettings(**common, output_interval_s=0.01))
+    half = run(vehicle, None, RunSettings(**common, time_step_s=0.001, output_interval_s=0.01))
     fine = run(
         vehicle,
         None,
         RunSettings(**common, time_step_s=0.00025, output_interval_s=0.01,
                     newton_relative_tolerance=1e-6),
     )  # fmt: skip
-    a, b = coarse.timeseries, fine.timeseries
-    n = min(len(a), len(b))
-    np.testing.assert_allclose(a.time_s[:n], b.time_s[:n], atol=1e-9)
-    later = a.time_s[:n] >= 0.5
-    for i in range(1, 5):
-        dy = np.max(np.abs(a[f"ws{i}_lateral_m"][:n] - b[f"ws{i}_lateral_m"][:n]))
-        assert dy < 1e-3 * 0.002
-        for side in ("left", "right"):
-            col = f"ws{i}_{side}_Y_N"
-            peak = max(np.max(np.abs(b[c][:n])) for c in b.columns if c.endswith("_Y_N"))
-            diff = np.abs(a[col][:n] - b[col][:n])
-            assert np.max(diff) < 0.08 * peak
-            assert np.max(diff[later]) < 0.02 * peak
+    b = fine.timeseries
+    peak = max(np.max(np.abs(b[c])) for c in b.columns if c.endswith("_Y_N"))
+    worst = {}
+    for label, a in (("2 ms", coarse.timeseries), ("1 ms", half.timeseries)):
+        n = min(len(a), len(b))
+        np.testing.assert_allclose(a.time_s[:n], b.time_s[:n], atol=1e-9)
+        later = a.time_s[:n] >= 0.5
+        worst[label] = 0.0
+        for i in range(1, 5):
+            dy = np.max(np.abs(a[f"ws{i}_lateral_m"][:n] - b[f"ws{i}_lateral_m"][:n]))
+            assert dy < 1e-3 * 0.002
+            for side in ("left", "right"):
+                col = f"ws{i}_{side}_Y_N"
+                diff = np.abs(a[col][:n] - b[col][:n])
+                worst[label] = max(worst[label], float(np.max(diff)))
+                assert np.max(diff[later]) < 0.02 * peak
+    assert worst["2 ms"] < 0.10 * peak
+    assert worst["1 ms"] < 0.03 * peak
+    assert worst["1 ms"] < worst["2 ms"] / 3.0
 
 
 def test_derailment_stops_the_run_and_keeps_results(tmp_path):

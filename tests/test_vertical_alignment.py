@@ -197,11 +197,14 @@ def test_bad_measured_profile_is_refused(tmp_path, text, words):
 
 
 # -- the vehicle on a gradient ------------------------------------------------------------------
-def _free_wheelset_run(torque_N_m: float, gradient_per_mille: float = 20.0):
+def _free_wheelset_run(
+    torque_N_m: float, gradient_per_mille: float = 20.0, initial_lateral_m: float = 0.002
+):
     veh = load_vehicle(find_input("vehicle", "wheelset"))
     track = _track({"type": "gradient", "gradient": gradient_per_mille})
     settings = RunSettings(
         speed_m_per_s=10.0, distance_m=50.0, output_interval_s=0.01,
+        initial_lateral_m=initial_lateral_m,
         traction=Traction(torque_N_m=Schedule.constant(torque_N_m), time_limit_s=1.0),
     )  # fmt: skip
     result = simulate(veh, track, settings)
@@ -213,8 +216,12 @@ def test_free_rolling_wheelset_accelerates_down_the_gradient():
     """No torque on 20 per mille: m a = -m g sin(theta) - F_x and J a / r^2 = F_x (rolling),
     so a = -m g sin(theta) / (m + J / r^2) (hand calculation, -0.1324 m/s^2); 1 %: the
     generalized-alpha method's numerical damping in the recorded acceleration, as in
-    tests/test_traction.py. The output carries the gradient and the elevation."""
-    veh, ts = _free_wheelset_run(0.0)
+    tests/test_traction.py (measured: -0.132371, 1e-5). The wheelset starts centred: from the
+    default 2 mm offset it sways kinematically (period about 1 s at 10 m/s) and the acceleration
+    swings by +-6 % at twice that frequency, so a 0.7 s window's median depends on the phase
+    (-0.1307 with the patch-centroid contact, issue 28; -0.13234 over 4 s). The output carries
+    the gradient and the elevation."""
+    veh, ts = _free_wheelset_run(0.0, initial_lateral_m=0.0)
     g = veh.gravity_m_per_s2
     theta = math.atan(0.02)
     t = np.asarray(ts["time_s"])

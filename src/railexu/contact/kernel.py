@@ -25,8 +25,11 @@ b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and i
    minimum with ``g < 0`` is a contact point: one on the tread, or two when tread and flange
    both touch (the seed's Fig. 8); minima sharing one overlap region are weighted
    (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
-c) *Normal force.* Hertz's ellipse and stiffness from the principal curvatures of wheel and rail
-   at the point (:mod:`railexu.contact.hertz`), and the damped force of the seed's eq. (2)
+c) *Normal force.* Each minimum is a patch (:func:`patch_centre`, issue 28): the force acts at
+   the centroid of its load (virtual penetration, Kik and Piotrowski 2008), with the approach
+   along the normal there and Hertz's curvatures there (:mod:`railexu.contact.hertz`); so two
+   minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch.
+   The damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
    negative.
 d) *Tangential forces.* Creepages and spin from the wheel's velocity at the point; Kalker's
@@ -941,6 +944,116 @@ def candidate_weights(n, cand_g, cand_h, weights):
         weights[i + 1] *= (1.0 - (1.0 - theta_a) * ca * (1.0 - sb)) * cb
 
 
+#: Virtual penetration ratio of the patch (Kik and Piotrowski 2008, VSD 46, 27-48; the value of
+#: :mod:`railexu.contact.kik_piotrowski`): the patch of a minimum of depth ``-g_k`` is where the
+#: gap is below ``(1 - PATCH_EPSILON) g_k``, and its line load is taken proportional to the
+#: virtual penetration ``(1 - PATCH_EPSILON) g_k - g(s)`` there (for a Hertzian circle with
+#: ``eps = 0.5`` exactly Hertz's line load ``1 - (y / b)^2`` over the true width).
+PATCH_EPSILON = 0.55
+#: Steps of the sum over the patch (:func:`patch_centre`): this share of the patch's half-width
+#: estimated from the curvatures at the minimum, within these bounds [m]; most steps each way.
+#: A fifth: the centroid of a parabolic load on that grid is exact by symmetry, and the sum's
+#: error for an asymmetric one is of order step^2; a tenth cost 25 % more on the seed run.
+PATCH_STEP_MIN = 5.0e-5
+PATCH_STEP_MAX = 1.0e-3
+PATCH_STEP_SHARE = 0.2
+PATCH_MAX_STEPS = 400
+#: Golden-section steps for the hump between two minima of a patch: 0.618^24 = 1e-5 of their
+#: distance (0.1 um over 10 mm), far below the +-step over which the hump's side is switched.
+HUMP_ITERATIONS = 24
+
+
+@numba.njit(inline="always", **_JIT)
+def _neighbour_share(hump, g_nb, threshold):
+    """How much of a neighbouring minimum's side a patch leaves to it: 1 while the hump between
+    them is above the patch's threshold (two patches), falling with the smoothstep to 0 as the
+    neighbour's prominence ``hump - g_nb`` vanishes (the neighbour dies into this patch)."""
+    if hump >= threshold or not (threshold > g_nb):
+        return 1.0
+    return _smoothstep((hump - g_nb) / (threshold - g_nb))
+
+
+@numba.njit(**JIT_NO_REFCOUNT)
+def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
+    """Centroid ``s`` [m] of the line load of the patch of minimum ``k`` on the wheel's
+    coordinate, and the load's variance about it [m^2] (``step``: the grid [m]).
+
+    A Hertz point carries the whole force of its patch at the deepest point of the gap. Where
+    the gap is nearly flat over millimetres (the S1002 flange root on a 60E1 gauge corner with
+    yaw: one conformal patch from about 0.4 to 1.22 rad, issue 28) the deepest point jumps
+    between the ends of that valley with micrometres of lateral motion, and with it the force's
+    direction: the vertical force fell by 118 kN over 20 um and the coach's wheelsets chattered.
+    The point where the force acts is therefore the centroid of the patch's line load, the
+    virtual penetration ``w(s) = (1 - PATCH_EPSILON) g_k - g(s) > 0`` summed on a grid of
+    ``step`` anchored at the minimum (a continuous function of the pose: every term is,
+    and the patch ends where ``w`` does). On a circular rail head the normal at the centroid is
+    the mean normal of the line load. A neighbouring minimum's side beyond the hump between them
+    counts with the weight ``1 - share`` (:func:`_neighbour_share`: 0 while the two patches are
+    separate, 1 when the neighbour dies into this patch), switched over +-``step`` about
+    the hump. For a Hertzian patch (gap symmetric about the minimum) the centroid is the minimum.
+    The variance has Sheppard's correction ``- step^2 / 12`` for the grid; for a parabolic gap
+    ``g = -d + B s^2`` it is ``eps d / (5 B)`` (the line load ``eps d - B s^2``), from which the
+    caller takes the patch's curvature.
+    """
+    s_k = cand_s[k]
+    g_k = cand_g[k]
+    if not (g_k < 0.0):
+        return s_k, 0.0
+    threshold = (1.0 - PATCH_EPSILON) * g_k
+    den = threshold - g_k
+    num = den * s_k
+    num2 = den * s_k * s_k
+    for direction in (-1, 1):
+        factor = 1.0  # weight of the part of the valley being summed
+        j = k  # the last minimum passed
+        hump_s = 0.0
+        share = 1.0
+        crossing = False
+        nb = j + direction
+        if 0 <= nb < n:
+            hump = cand_h[min(j, nb)]
+            if hump < threshold and cand_g[nb] < threshold:
+                share = _neighbour_share(hump, cand_g[nb], threshold)
+                lo = min(cand_s[j], cand_s[nb])
+                hi = max(cand_s[j], cand_s[nb])
+                hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
+                crossing = True
+        for i in range(1, PATCH_MAX_STEPS + 1):
+            s = s_k + direction * i * step
+            g = _gap_at(s, wtab, rtab, ctx)[0]
+            w = threshold - g
+            if w <= 0.0 and not crossing:
+                break
+            chi = factor
+            if crossing:
+                # 0 before the hump, 1 past it (linear over +-step)
+                x = (direction * (s - hump_s) + step) / (2.0 * step)
+                x = min(1.0, max(0.0, x))
+                chi = factor * (1.0 - x * share)
+                if x >= 1.0:
+                    factor *= 1.0 - share
+                    crossing = False
+                    j = j + direction
+                    nb = j + direction
+                    if factor <= 0.0:
+                        break
+                    if 0 <= nb < n:
+                        hump = cand_h[min(j, nb)]
+                        if hump < threshold and cand_g[nb] < threshold:
+                            share = _neighbour_share(hump, cand_g[nb], threshold)
+                            lo = min(cand_s[j], cand_s[nb])
+                            hi = max(cand_s[j], cand_s[nb])
+                            hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
+                            crossing = True
+            if w > 0.0:
+                num += chi * w * s
+                num2 += chi * w * s * s
+                den += chi * w
+    centre = num / den
+    variance = num2 / den - centre * centre - step * step / 12.0
+    return centre, max(variance, step * step / 12.0)
+
+
 @numba.njit(**JIT_NO_REFCOUNT)
 def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, cz, phi, psi,
                   vx, vy, vz, wx, wy, wz, rail_dy, rail_dz, rail_vy, rail_vz, points, side,
@@ -1017,10 +1130,41 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     speed = params[P_SPEED]
     n_loaded = 0
     for k in range(n_cand):
-        s = cand_s[k]
-        F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
-        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
+        # depth and Hertz curvatures at the minimum of the gap (the first point of contact)
+        s_min = cand_s[k]
+        F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s_min)
+        g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s_min, F, F1, F2, rtab, ctx)
         r = r0 + F
+        inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
+        delta = -g * inv
+        # principal curvatures, convex positive; the lateral ones from the profiles' curvature
+        # averaged over the contact width (tables' column 3), so that Hertz's stiffness does not
+        # jump where a profile's curvature does (arc to arc, arc to line)
+        q = 1.0 + F1 * F1
+        kwx = 1.0 / (r * math.sqrt(q))
+        kwy = -_linear(wtab, 3, ws0, wstep, wn, s_min) / (q * math.sqrt(q))
+        kry = -_linear(rtab, 3, ry0, rstep, rn, Py) * inv * inv * inv
+        # the point where the force acts, whose normal, radius and velocity are used: the
+        # centroid of the patch's line load (issue 28; the minimum for a symmetric patch)
+        s = s_min
+        b_lat = 0.5 * (kwy + kry)
+        if delta > 0.0:
+            half_width = math.sqrt(PATCH_EPSILON * delta / max(b_lat, 1.0)) * inv
+            step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, PATCH_STEP_SHARE * half_width))
+            s, _variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
+            if s != s_min:
+                F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
+                g_c, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
+                r = r0 + F
+                inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
+                # the approach along the patch's normal: two minima that share one patch have
+                # one normal and (nearly) one depth, so the load moving from one to the other
+                # does not change the force (along its own normal the steep flange minimum had
+                # 0.4 times the root's approach at the same vertical depth)
+                delta = -g * inv
+                # Hertz's curvatures stay the minimum's (the profiles' curvature averaged over
+                # the contact width, tables' column 3): between two minima of one valley the
+                # relative curvature can be zero or negative, where Hertz has no answer
         u = -F1 * tpsi
         w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
@@ -1030,17 +1174,8 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         relx = r11 * px + r12 * py
         rely = r21 * px + r22 * py + r23 * pz
         relz = r31 * px + r32 * py + r33 * pz
-        inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
         ny = -zr1 * inv
         nz = inv
-        delta = -g * inv
-        # principal curvatures, convex positive; the lateral ones from the profiles' curvature
-        # averaged over the contact width (tables' column 3), so that Hertz's stiffness does not
-        # jump where a profile's curvature does (arc to arc, arc to line)
-        q = 1.0 + F1 * F1
-        kwx = 1.0 / (r * math.sqrt(q))
-        kwy = -_linear(wtab, 3, ws0, wstep, wn, s) / (q * math.sqrt(q))
-        kry = -_linear(rtab, 3, ry0, rstep, rn, Py) * inv * inv * inv
         # velocity of the wheel's material point at the contact, relative to the rail
         vrx = vx + wy * relz - lwz * rely
         vry = lvy + lwz * relx - lwx * relz - lrvy
@@ -1065,7 +1200,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         fx = 0.0
         fy = 0.0
         if delta > 0.0:
-            kh, alpha_a, alpha_b = hertz_coefficients_nb(htab, 0.5 * kwx, 0.5 * (kwy + kry), e_star)
+            kh, alpha_a, alpha_b = hertz_coefficients_nb(htab, 0.5 * kwx, b_lat, e_star)
             sd = math.sqrt(delta)
             elastic = kh * delta * sd
             if params[P_DAMP_MODEL] == 0.0:
