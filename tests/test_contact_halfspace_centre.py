@@ -1,0 +1,253 @@
+"""Which rolling radius near the centre is right? An elastic half-space check of the patch
+centroid (issue 28).
+
+Centred S1002 on 60E1 1:40 touches each rail at two points of one flat valley of the gap. The
+rolling-radius difference the dynamics sees there depended on where the kernel puts the force:
+at the gap's deepest point (main) ``Delta r / (2 y)`` was 0.55 at 0.5 mm, at the patch's load
+centroid (Kik-Piotrowski virtual penetration, this branch) 0.15. The reference here is
+independent of both: the frictionless normal contact of two elastic half-spaces (Boussinesq,
+Love's rectangles, Kalker's active set; ``tests/halfspace.py``) on the wheel's and rail's
+undeformed separation computed from the same profiles, projected on the plane tangent to the rail
+at the patch (CONTACT's planar approach: both bodies are half-spaces bounded by that plane; the
+surfaces' lateral curvature enters only through the separation; the rail's surface turns by
+about 0.04 rad across the widest patch here). Kalker's linear theory takes the longitudinal
+creepage at the patch's centre (its linear variation across the patch acts like spin and gives
+no net longitudinal force), so the rolling radius at the half-space pressure centroid is the
+reference. Checks of the reference itself: Hertz (an ellipse off the grid's nodes) and CONTACT's
+solution of the same profile pair, centred (Manchester benchmark case A-2.2, case 1,
+``tests/data/contact_mbench_reference.csv``).
+
+Grid: 1 mm along the track x 0.5 mm across, the element at ``-x`` mirrored (no yaw). Measured
+against a grid of half that size at 0, 0.5, 1 and 2 mm shift: the pressure centroid moves by at
+most 7 um on the wheel and its rolling radius by at most 0.3 um (0.0006 in ``Delta r / (2 y)``
+at 0.5 mm), so the grid error is negligible in the tolerances below.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import halfspace as hs
+import numpy as np
+import pytest
+
+from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.placement import symmetric_wheelset
+from railexu.contact.quasistatic import press_wheelset
+from railexu.model.assembly import wheelset_geometry
+from railexu.track.track import load_track
+from railexu.vehicle.vehicle import load_vehicle
+
+ROOT = Path(__file__).resolve().parents[1]
+MBENCH = Path(__file__).parent / "data" / "contact_mbench_reference.csv"
+GRAVITY_M_PER_S2 = 9.81
+SHIFTS_M = (0.0, 0.25e-3, 0.5e-3, 1.0e-3, 2.0e-3, 3.0e-3, 4.0e-3)
+
+
+# -- the reference itself -------------------------------------------------------------------------
+
+
+def test_love_rectangle_integral_closed_forms():
+    """At the centre of a square of side 2c: ``8 c ln(1 + 2^0.5)``; far away: area / distance."""
+    c = 0.5e-3
+    assert hs.rectangle_integral(0.0, 0.0, 2 * c, 2 * c) == pytest.approx(
+        8 * c * math.log(1 + math.sqrt(2)), rel=1e-12
+    )
+    far = 40 * c
+    assert hs.rectangle_integral(far, 0.3 * far, 2 * c, 2 * c) == pytest.approx(
+        4 * c * c / math.hypot(far, 0.3 * far), rel=1e-3
+    )
+
+
+def test_hertz_formulas_reduce_to_the_sphere():
+    """The elliptic formulas (Johnson 3.26) near e = 0 against the sphere's
+    ``a^3 = 3 P R / (4 E*)``, ``delta = a^2 / R``, ``p0 = 3 P / (2 pi a^2)``."""
+    e_star, radius, a = 1.14e11, 0.3, 4e-3
+    sphere = hs.hertz_from_shape(0.5 / radius, 0.5 / radius, a, e_star)
+    assert sphere.load_N == pytest.approx(4 * e_star * a**3 / (3 * radius), rel=1e-12)
+    assert sphere.approach_m == pytest.approx(a * a / radius, rel=1e-12)
+    assert sphere.p0_pa == pytest.approx(3 * sphere.load_N / (2 * math.pi * a * a), rel=1e-12)
+    nearly = hs.hertz_from_shape(0.5 / radius, 0.5 / radius * 1.001, a, e_star)
+    assert nearly.approach_m == pytest.approx(sphere.approach_m, rel=1e-3)
+    assert nearly.load_N == pytest.approx(sphere.load_N, rel=2e-3)
+
+
+def test_half_space_solver_against_hertz():
+    """An ellipse of the wheel-rail kind (rolling radius 0.625 m, relative lateral radius 0.3 m,
+    a = 6 mm, 37 kN) centred 0.1234 mm off the grid's nodes, on the grid used below
+    (1 x 0.5 mm: 6 elements on the half-axis a, 7 on b). Measured: approach -0.13 %, peak
+    pressure -0.43 %, area +2.3 %, centroid 0.9 um. Tolerances: the approach and the load are
+    integrals (0.5 %); the peak samples the pressure at an element centre, within half an element
+    of the top (1 %); the area counts whole elements along the edge, about the perimeter times
+    half an element (5 %); the centroid within 1 % of an element (5 um)."""
+    e_star = 82e9 / (1 - 0.28)
+    curv_a, curv_b = 0.5 / 0.625, 0.5 / 0.3
+    ref = hs.hertz_from_shape(curv_a, curv_b, 6e-3, e_star)
+    dx, dy, y0 = 1e-3, 5e-4, 0.1234e-3
+    x = (np.arange(int(1.3 * ref.a_m / dx) + 1) + 0.5) * dx
+    y = np.arange(-1.3 * ref.b_m, 1.3 * ref.b_m, dy) + y0
+    xx, yy = np.meshgrid(x, y, indexing="ij")
+    xx, yy = xx.ravel(), yy.ravel()
+    sep = curv_a * xx**2 + curv_b * (yy - y0) ** 2
+    sol = hs.solve_symmetric(xx, yy, sep, dx, dy, e_star, ref.load_N)
+    assert sol.load_N == pytest.approx(ref.load_N, rel=1e-9)
+    assert sol.approach_m == pytest.approx(ref.approach_m, rel=5e-3)
+    assert sol.pressure_pa.max() == pytest.approx(ref.p0_pa, rel=1e-2)
+    assert sol.contact_area_m2 == pytest.approx(math.pi * ref.a_m * ref.b_m, rel=5e-2)
+    assert sol.centroid_y_m == pytest.approx(y0, abs=5e-6)
+    loaded = sol.pressure_pa > 0.0
+    assert sol.x_m[loaded].max() + 0.5 * dx == pytest.approx(ref.a_m, abs=dx)
+    half_b = 0.5 * (sol.y_m[loaded].max() - sol.y_m[loaded].min() + dy)
+    assert half_b == pytest.approx(ref.b_m, abs=dy)
+
+
+def test_centred_manchester_pair_against_contact():
+    """CONTACT (Vollebregt; Manchester benchmark A-2.2 case 1: S1002 and UIC60 1:40 of the
+    benchmark's files, centred, no yaw, 10 kN, G = 82 GPa, nu = 0.28, 0.2 mm grid) against the
+    half-space here on the same profiles at 0.5 x 0.25 mm: approach 0.01596 mm (here 0.01587,
+    -0.6 %), peak pressure 338.3 MPa (335.3, -0.9 %), area 51.64 mm^2 (53.5, +3.6 %), extents
+    5.0 x 15.8 mm. CONTACT solves with friction, but for two bodies of one material the normal
+    problem does not depend on the tangential one (Kalker's quasi-identity), so its pressure is
+    the frictionless one. Tolerances: approach 2 % (CONTACT prints 4 digits; its curved
+    surfaces against our plane), peak 3 % (element-centre sampling on either grid), area 8 %
+    and extents one element of each grid (the edge elements)."""
+    row = next(
+        r
+        for r in csv.DictReader(line for line in MBENCH.open() if not line.startswith("#"))
+        if r["side"] == "left" and r["case"] == "1"
+    )
+    geometry = symmetric_wheelset(
+        "MBench_S1002", "MBench_UIC60", nominal_radius_m=0.46, inclination="1:40"
+    )
+    e_star = 82e9 / (1 - 0.28)
+    dx, dt = 5e-4, 2.5e-4
+    patch = hs.wheel_patch(
+        hs.WheelOnRail(geometry.left, 0.0, 0.0), float(row["fn_N"]), e_star, dx_m=dx, dt_m=dt
+    )
+    sol = patch.solution
+    assert sol.approach_m == pytest.approx(float(row["approach_mm"]) * 1e-3, rel=0.02)
+    assert sol.pressure_pa.max() == pytest.approx(float(row["pmax_N_per_mm2"]) * 1e6, rel=0.03)
+    assert sol.contact_area_m2 == pytest.approx(float(row["contact_area_mm2"]) * 1e-6, rel=0.08)
+    loaded = sol.pressure_pa > 0.0
+    x_extent = 2.0 * sol.x_m[loaded].max() + dx
+    s_extent = sol.y_m[loaded].max() - sol.y_m[loaded].min() + dt
+    assert x_extent == pytest.approx(float(row["x_extent_mm"]) * 1e-3, abs=dx + 2e-4)
+    assert s_extent == pytest.approx(float(row["s_extent_mm"]) * 1e-3, abs=dt + 2e-4)
+
+
+# -- the EU07's wheelset: deepest point, load centroid, half-space ---------------------------------
+
+
+@pytest.fixture(scope="module")
+def eu07_table():
+    """Per shift ``y``: the rolling radius of each wheel at the deepest point (main), at the
+    branch's load centroid (the kernel's points, force-weighted) and at the half-space pressure
+    centroid, with the wheel's profile coordinate of each. The pose (roll) is the pressed
+    wheelset's under the EU07's static wheel load; the half-space carries the same load."""
+    vehicle = load_vehicle(ROOT / "vehicles" / "eu07.yaml")
+    track = load_track(ROOT / "tracks" / "straight.yaml")
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
+    model = WheelsetContactModel(geometry, vehicle.contact, 10.0)
+    load = vehicle.total_mass_kg * GRAVITY_M_PER_S2 / (2 * len(vehicle.wheelsets))
+    e_star = vehicle.contact.shear_modulus_Pa / (1.0 - vehicle.contact.poisson)
+    r0 = geometry.left.nominal_radius_m
+    table = {}
+    for y in SHIFTS_M:
+        state = press_wheelset(model, y, 0.0, load)
+        row = {}
+        for side, mirror in (("left", 1.0), ("right", -1.0)):
+            if y == 0.0 and side == "right":
+                row["right"] = row["left"]  # the mirror image
+                continue
+            points = [p for p in state.result.wheel(side) if p.normal_force_N > 0.0]
+            total = sum(p.normal_force_N for p in points)
+            s, gap = model.gap_candidates(side, y, state.vertical_m, state.roll_rad, 0.0)
+            s_deep = float(s[int(np.argmin(gap))])
+            pair = geometry.left if side == "left" else geometry.right
+            wheel = hs.WheelOnRail(pair, mirror * y, mirror * state.roll_rad)
+            patch = hs.wheel_patch(wheel, load, e_star)
+            row[side] = {
+                "deepest": (s_deep, r0 + float(pair.wheel.height(s_deep))),
+                "centroid": (
+                    sum(p.normal_force_N * p.wheel_lateral_m for p in points) / total,
+                    sum(p.normal_force_N * p.rolling_radius_m for p in points) / total,
+                ),
+                "halfspace": (patch.centroid_s_m, patch.centroid_radius_m),
+                "halfspace_mean_radius": (patch.centroid_s_m, patch.mean_radius_m),
+            }
+        table[y] = row
+    return table
+
+
+def _conicity(table, y: float, key: str) -> float:
+    """``Delta r / (2 y) = (r_left - r_right) / (2 y)``."""
+    return (table[y]["left"][key][1] - table[y]["right"][key][1]) / (2.0 * y)
+
+
+@pytest.mark.parametrize("y", [3.0e-3, 4.0e-3])
+def test_one_hertz_like_patch_all_three_agree(eu07_table, y):
+    """From 3 mm each wheel has one patch nearly Hertzian in shape: the deepest point, the load
+    centroid and the half-space pressure centroid must give one ``Delta r / (2 y)``, which
+    checks the half-space's geometry (its own wheel and rail placement) against railexu's
+    contact search. Measured within 1.5 %; 3 %: the half-space centroid of a slightly
+    asymmetric patch lies up to 0.1 mm from the deepest point, 5 um of radius on the tread's
+    slope of ~0.05, 2.5 % of ``Delta r`` at 2 y = 6 mm."""
+    reference = _conicity(eu07_table, y, "halfspace")
+    assert _conicity(eu07_table, y, "deepest") == pytest.approx(reference, rel=0.03)
+    assert _conicity(eu07_table, y, "centroid") == pytest.approx(reference, rel=0.03)
+
+
+@pytest.mark.parametrize("y", [2.0e-3, 3.0e-3, 4.0e-3])
+def test_load_centroid_on_the_wheel_where_the_half_space_puts_it(eu07_table, y):
+    """The branch's centroid lies within 0.2 mm of the half-space's on each wheel (measured at
+    most 0.14 mm): 2 % of the 8-12 mm wide patches, Kik-Piotrowski's line load (the virtual
+    penetration) against the half-space's; and ``Delta r / (2 y)`` within 3 % (0.2 mm at a slope
+    of 0.05 is 10 um, 2.5 % at 2 y = 4 mm; measured 1.5 % at 2 mm)."""
+    for side in ("left", "right"):
+        ours = eu07_table[y][side]["centroid"][0]
+        ref = eu07_table[y][side]["halfspace"][0]
+        assert ours == pytest.approx(ref, abs=2e-4)
+    reference = _conicity(eu07_table, y, "halfspace")
+    assert _conicity(eu07_table, y, "centroid") == pytest.approx(reference, rel=0.03)
+
+
+@pytest.mark.parametrize("y", [0.25e-3, 0.5e-3, 1.0e-3])
+def test_deepest_point_is_wrong_near_the_centre(eu07_table, y):
+    """Where the two points of one valley share the load, the deepest point's rolling radius
+    jumps to the valley's end: main's ``Delta r / (2 y)`` is 5.5, 3.0 and 1.7 times the
+    half-space's at 0.25, 0.5 and 1 mm (measured 1.01, 0.55, 0.32 against 0.18, 0.19, 0.19).
+    The branch's centroid is far closer: its error is under a fifth of the deepest point's."""
+    reference = _conicity(eu07_table, y, "halfspace")
+    deepest = _conicity(eu07_table, y, "deepest")
+    centroid = _conicity(eu07_table, y, "centroid")
+    assert deepest > 1.5 * reference
+    assert abs(centroid - reference) < 0.2 * abs(deepest - reference)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 28: near the centre the branch's Delta r / (2 y) is 17 % (0.25-0.5 mm) and 10 % "
+    "(1 mm) below the half-space's: its Hertz approach at the minimum of the flat valley is up "
+    "to 42 % deeper than the half-space's under the same load, which widens the virtual "
+    "penetration towards the valley's shallow end (docs/validation.md)",
+)
+@pytest.mark.parametrize("y", [0.25e-3, 0.5e-3, 1.0e-3])
+def test_load_centroid_conicity_near_the_centre(eu07_table, y):
+    """The same 3 % as from 2 mm on; the half-space's own error (grid, plane) is 0.3 %."""
+    reference = _conicity(eu07_table, y, "halfspace")
+    assert _conicity(eu07_table, y, "centroid") == pytest.approx(reference, rel=0.03)
+
+
+def test_half_space_conicity_is_continuous_through_the_centre(eu07_table):
+    """The half-space's ``Delta r / (2 y)`` stays within 0.15-0.21 from 0.25 to 4 mm (measured
+    0.183, 0.185, 0.192, 0.188, 0.167, 0.158): the load moves continuously through the
+    two-point valley, as the centroid's does and the deepest point's does not. The
+    pressure-weighted mean radius (the radius's curvature across a 20 mm patch) is within 12 %
+    of the centroid's (measured 0.203-0.205 at 0.25-1 mm, 1 % from 2 mm on)."""
+    values = [_conicity(eu07_table, y, "halfspace") for y in SHIFTS_M[1:]]
+    assert min(values) > 0.15 and max(values) < 0.21
+    for y in SHIFTS_M[1:]:
+        mean = _conicity(eu07_table, y, "halfspace_mean_radius")
+        assert mean == pytest.approx(_conicity(eu07_table, y, "halfspace"), rel=0.12)
