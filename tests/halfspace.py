@@ -19,6 +19,12 @@ not change.
 
 The problems here are symmetric in the rolling direction ``x`` (no yaw), so only ``x > 0`` is
 discretised and each element carries its mirror image: a quarter of the cost of a full grid.
+
+Tangential problem: Kalker's linear theory (steady rolling, no slip anywhere; Kalker 1990
+ch. 5) on the normal solution's contact area, longitudinal tractions only (Cerruti's
+displacement of a uniformly loaded rectangle), for creepages that vary from element to element:
+:func:`linear_theory_radius` is the rolling radius whose uniform creepage gives the patch's
+longitudinal creep force.
 """
 
 from __future__ import annotations

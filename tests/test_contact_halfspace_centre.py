@@ -5,22 +5,25 @@ Centred S1002 on 60E1 1:40 touches each rail at two points of one flat valley of
 rolling-radius difference the dynamics sees there depended on where the kernel puts the force:
 at the gap's deepest point (main) ``Delta r / (2 y)`` was 0.55 at 0.5 mm, at the patch's load
 centroid (Kik-Piotrowski virtual penetration, this branch) 0.15. The reference here is
-independent of both: the frictionless normal contact of two elastic half-spaces (Boussinesq,
-Love's rectangles, Kalker's active set; ``tests/halfspace.py``) on the wheel's and rail's
-undeformed separation computed from the same profiles, projected on the plane tangent to the rail
-at the patch (CONTACT's planar approach: both bodies are half-spaces bounded by that plane; the
-surfaces' lateral curvature enters only through the separation; the rail's surface turns by
-about 0.04 rad across the widest patch here). Kalker's linear theory takes the longitudinal
-creepage at the patch's centre (its linear variation across the patch acts like spin and gives
-no net longitudinal force), so the rolling radius at the half-space pressure centroid is the
-reference. Checks of the reference itself: Hertz (an ellipse off the grid's nodes) and CONTACT's
-solution of the same profile pair, centred (Manchester benchmark case A-2.2, case 1,
-``tests/data/contact_mbench_reference.csv``).
+independent of both (``tests/halfspace.py``): the frictionless normal contact of two elastic
+half-spaces (Boussinesq, Love's rectangles, Kalker's active set) on the wheel's and rail's
+undeformed separation computed from the same profiles, projected on the plane tangent to the
+rail at the patch (CONTACT's planar approach: both bodies are half-spaces bounded by that plane;
+the surfaces' lateral curvature enters only through the separation; the rail's surface turns by
+about 0.04 rad across the widest patch here), and Kalker's linear theory (steady rolling in full
+adhesion, Cerruti's rectangles) on that contact area with each element's creepage from the
+wheel's radius under it. The radius whose uniform creepage gives the same longitudinal force is
+the reference: near the centre the patch is 20 mm wide and one-sided, and the radius at its
+pressure centroid is not the one that sets the creep force there (the linear variation of the
+creepage across an asymmetric area gives a net force). Checks of the reference itself: Hertz (an
+ellipse off the grid's nodes), CONTACT's normal solution of the same profile pair, centred
+(Manchester benchmark case A-2.2, case 1, ``tests/data/contact_mbench_reference.csv``) and
+CONTACT's exact ``C11`` (``tests/data/contact_validation/kalker_reference.csv``).
 
 Grid: 1 mm along the track x 0.5 mm across, the element at ``-x`` mirrored (no yaw). Measured
-against a grid of half that size at 0, 0.5, 1 and 2 mm shift: the pressure centroid moves by at
-most 7 um on the wheel and its rolling radius by at most 0.3 um (0.0006 in ``Delta r / (2 y)``
-at 0.5 mm), so the grid error is negligible in the tolerances below.
+against a grid of half that size at 0.25, 0.5, 1 and 2 mm shift: the pressure centroid moves by
+at most 7 um on the wheel and its rolling radius by at most 0.3 um; the linear theory's
+``Delta r / (2 y)`` by 4.5 % at 0.25 mm and at most 1.6 % from 0.5 mm on.
 """
 
 from __future__ import annotations
@@ -219,7 +222,7 @@ def test_linear_theory_against_kalker_c11():
     box): ``F = G a b C11 xi`` with CONTACT's exact half-space ``C11 = 3.789``
     (``tests/data/contact_validation/kalker_reference.csv``). Measured +0.5 % (+0.9 % at 30,
     +0.03 % at 40 elements: the traction's singularity at the trailing edge); 1.5 %: that and the
-    lateral tractions left out."""
+    lateral tractions left out (with them coupled through nu: 3.806)."""
     with (
         Path(__file__).parent / "data" / "contact_validation" / "kalker_reference.csv"
     ).open() as f:
@@ -247,7 +250,7 @@ def test_load_centroid_conicity_against_linear_theory(eu07_table, y):
     uses). Measured 0.152, 0.153, 0.172, 0.185, 0.165, 0.159 against 0.157, 0.152, 0.165,
     0.178, 0.166, 0.161 (-3.0 % to +4.7 %). 6 %: the reference's own grid error (halving the
     grid moves it by 4.5 % at 0.25 mm, by at most 1.6 % from 0.5 mm on) and the lateral
-    tractions it leaves out (1 %)."""
+    tractions it leaves out (0.1 %, measured with them coupled through nu)."""
     reference = _conicity(eu07_table, y, "linear_theory")
     assert _conicity(eu07_table, y, "centroid") == pytest.approx(reference, rel=0.06)
 
