@@ -248,7 +248,7 @@ def test_load_centroid_conicity_against_linear_theory(eu07_table, y):
     """The branch's ``Delta r / (2 y)`` against the radius that gives the half-space patch's
     longitudinal creep force in Kalker's linear theory (the theory the linearised dynamics
     uses). Measured 0.152, 0.153, 0.172, 0.185, 0.165, 0.159 against 0.157, 0.152, 0.165,
-    0.178, 0.166, 0.161 (-3.0 % to +4.7 %). 6 %: the reference's own grid error (halving the
+    0.177, 0.166, 0.161 (-3.0 % to +4.7 %). 6 %: the reference's own grid error (halving the
     grid moves it by 4.5 % at 0.25 mm, by at most 1.6 % from 0.5 mm on) and the lateral
     tractions it leaves out (0.1 %, measured with them coupled through nu)."""
     reference = _conicity(eu07_table, y, "linear_theory")
