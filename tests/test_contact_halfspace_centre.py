@@ -63,6 +63,15 @@ def test_love_rectangle_integral_closed_forms():
     assert hs.rectangle_integral(far, 0.3 * far, 2 * c, 2 * c) == pytest.approx(
         4 * c * c / math.hypot(far, 0.3 * far), rel=1e-3
     )
+    # Cerruti: on a square x^2/r^3 and y^2/r^3 integrate alike, so x^2/r^3 gives half of 1/r
+    nu = 0.28
+    assert hs.tangential_rectangle_integral(0.0, 0.0, 2 * c, 2 * c, nu) == pytest.approx(
+        (1 - nu / 2) * 8 * c * math.log(1 + math.sqrt(2)), rel=1e-12
+    )
+    r = math.hypot(far, 0.3 * far)
+    assert hs.tangential_rectangle_integral(far, 0.3 * far, 2 * c, 2 * c, nu) == pytest.approx(
+        4 * c * c * ((1 - nu) / r + nu * far**2 / r**3), rel=1e-3
+    )
 
 
 def test_hertz_formulas_reduce_to_the_sphere():
@@ -241,6 +250,11 @@ def test_linear_theory_against_kalker_c11():
         xx[inside], yy[inside], dx, dy, np.full((inside.sum(), 1), xi), shear, nu
     )
     assert abs(force[0]) / (shear * a * b * xi) == pytest.approx(float(row["c11"]), rel=0.015)
+    # a creepage varying linearly across the ellipse (spin-like) gives no net force (symmetry)
+    odd = hs.linear_theory_forces(
+        xx[inside], yy[inside], dx, dy, (xi * yy[inside] / b)[:, None], shear, nu
+    )
+    assert abs(odd[0]) < 1e-9 * abs(force[0])
 
 
 @pytest.mark.parametrize("y", SHIFTS_M[1:])
