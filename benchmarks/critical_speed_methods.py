@@ -1,6 +1,8 @@
 """The four critical-speed methods compared on one vehicle, with the wall time of each (issue 28).
 
-Run: ``python benchmarks/critical_speed_methods.py eu07_bogie OUT`` (or ``eu07``); writes
+Run: ``python benchmarks/critical_speed_methods.py eu07_bogie OUT`` (or ``eu07``; a third
+argument chooses methods, ``branch,ramp``; ``figure`` draws ``OUT/bifurcation_<vehicle>.png``
+from the written results); writes
 ``OUT/<vehicle>_<method>.json`` (the method's section of ``critical_speed.json`` with its wall
 time and the processor time of this process) as each method finishes, so that a long
 comparison keeps what it has done. Settings (coarse, for a shared 2-core machine): runs and
@@ -60,8 +62,30 @@ def main(vehicle_name: str, out: Path, methods: list[str]) -> None:
         print(f"{vehicle_name} {method}: {wall:.0f} s wall, {cpu:.0f} s processor", flush=True)
 
 
+def figure(vehicle_name: str, out: Path) -> Path | None:
+    """The bifurcation diagram of ``OUT/<vehicle>_{branch,linear,ramp}.json`` (the branch with
+    the ramp's windows and the linear critical speed), written to
+    ``OUT/bifurcation_<vehicle>.png``; None without a branch result."""
+    from railexu.report.stability_figures import critical_speed_figures
+
+    result: dict = {"vehicle": vehicle_name}
+    for method in ("branch", "linear", "ramp"):
+        path = out / f"{vehicle_name}_{method}.json"
+        if path.exists():
+            result[method] = json.loads(path.read_text()).get(method)
+    if not result.get("branch"):
+        return None
+    fig = critical_speed_figures(result)["bifurcation_diagram"]
+    target = out / f"bifurcation_{vehicle_name}.png"
+    fig.savefig(target, dpi=90)
+    return target
+
+
 if __name__ == "__main__":
     name, folder = sys.argv[1], Path(sys.argv[2])
+    if sys.argv[3:] == ["figure"]:
+        print(figure(name, folder))
+        sys.exit(0)
     chosen = sys.argv[3].split(",") if len(sys.argv) > 3 else ["linear", "branch", "ramp",
                                                                "bisection"]  # fmt: skip
     main(name, folder, chosen)

@@ -305,3 +305,63 @@ def test_a_run_too_short_to_classify_gives_no_verdict(monkeypatch):
     assert branch["status"] == "no verdict" and not branch["converged"]
     result = {"bisection": bis, "branch": branch, "ramp": {"status": "not found"}}
     assert unfinished_methods(result) == ["branch (no verdict)", "bisection (no verdict)"]
+
+
+class _FoldRamp:
+    """A ramp's time series over a fold: 12 s of a 3 Hz, 3 mm cycle at ``v0``, then a
+    deceleration ``a``; the cycle holds down to ``fold`` m/s and then decays at 1.5 /s to rest."""
+
+    def __init__(self, v0: float, a: float, fold: float, v_end: float):
+        dt, t_settle = 0.01, 12.0
+        self.time_s = t = np.arange(0.0, t_settle + (v0 - v_end) / a, dt)
+        speed = np.where(t < t_settle, v0, v0 - a * (t - t_settle))
+        self.distance_m = np.cumsum(speed) * dt - speed[0] * dt
+        t_fold = t_settle + (v0 - fold) / a
+        y = 3e-3 * np.exp(-1.5 * np.clip(t - t_fold, 0.0, None)) * np.sin(2 * np.pi * 3.0 * t)
+        self.columns = {"speed_m_per_s": speed, "ws1_lateral_m": y}
+        self.settle_m = float(v0 * t_settle)
+
+    def wheelset_indices(self):
+        return [1]
+
+    def __getitem__(self, name):
+        return self.columns[name]
+
+
+@pytest.mark.parametrize("fast_fold, agree", [(33.0, True), (22.0, False)])
+def test_the_ramp_gives_a_verdict_only_where_its_two_rates_agree(monkeypatch, fast_fold, agree):
+    """The ramp's two runs at 0.5 and 1 m/s^2 (windows of 16 periods of 3 Hz: resolutions 2.67
+    and 5.33 m/s). Where the cycle vanishes at 33 m/s on both, the speeds agree within the sum
+    of the resolutions and the method's critical speed and fold are the slower ramp's. Where on
+    the faster ramp the cycle outlives the speed down to 22 m/s (a motion that lags the ramp),
+    the two differ by 11 m/s, more than 8 m/s: the result is "rate-dependent", no verdict (the
+    command then exits unconverged), with both speeds."""
+    import railexu.stability.ramp as rp
+    from railexu.cli.critical_speed import unfinished_methods
+
+    def fake(vehicle, track, a, settings):
+        ts = _FoldRamp(45.0, a, 33.0 if a == 0.5 else fast_fold, 15.0)
+        out = {"deceleration_m_per_s2": a, "distance_m": float(ts.distance_m[-1])}
+        out.update(rp.classify_ramp(ts, ts.settle_m, a, settings))
+        out["status"] = "converged" if out["critical_speed_m_per_s"] else "not found"
+        return out
+
+    monkeypatch.setattr(rp, "one_ramp", fake)
+    settings = CriticalSpeedSettings(methods=("ramp",), ramp_deceleration_m_per_s2=0.5,
+                                     speed_min_m_per_s=15.0, speed_max_m_per_s=45.0)  # fmt: skip
+    result = rp.ramp_critical_speed(None, None, settings)
+    slow, fast = result["critical_speed_m_per_s_by_rate"]
+    assert 33.0 - 2.67 <= slow <= 33.0 + 2.67
+    assert fast_fold - 5.33 <= fast <= fast_fold + 5.33
+    assert result["rate_independent"] is agree
+    assert result["fold_rate_independent"] is agree
+    if agree:
+        assert result["status"] == "converged"
+        assert result["critical_speed_m_per_s"] == slow
+        assert result["fold_m_per_s"] == result["fold_m_per_s_by_rate"][0]
+        assert 33.0 - 2.67 <= result["fold_m_per_s"] <= 33.0 + 2.67
+    else:
+        assert result["status"] == "rate-dependent"
+        assert result["critical_speed_m_per_s"] is None and result["fold_m_per_s"] is None
+        assert "rate-dependent, no verdict" in result["note"]
+        assert unfinished_methods({"ramp": result}) == ["ramp (rate-dependent)"]
