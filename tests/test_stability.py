@@ -476,15 +476,17 @@ def test_staircase_profile():
 
 def test_growth_rate_classification_of_a_bogie_branch(monkeypatch):
     """The EU07 bogie on S1002/UIC60 1:40, from a 5 mm disturbance at 45 m/s, stepping down by
-    10 m/s (one run, plateaus of 150 m, each starting from the state of the one above): the
-    large cycle (7.6 mm at 45, 6.6 mm at 35 m/s measured) is lost between 35 and 25 m/s, below
-    the linear critical speed of the bogie alone (44 m/s, docs/validation.md): hunting of these
-    profiles is subcritical (True 1999). The fold is reported with its bracket and what the
-    motion does below it (a jump to the small cycle, 1.0 mm at 25 m/s: another branch); a cycle
-    is sustained down to the lowest speed, so the critical speed lies below the range, with the
-    amplitude there reported. The same runs classified with the 1 mm label floor at 3 mm give
-    the same verdicts (no threshold decides; only the label of the 1.0 mm cycle changes). Runs
-    classified as limit cycles change by less than 1 % per period."""
+    10 m/s (one run, plateaus of 300 m, each starting from the state of the one above; 150 m
+    left the 45 m/s plateau still settling onto its cycle from above with the patch-centroid
+    kernel): the large cycle (7.2 mm at 45, 6.6 mm at 35 m/s measured) is lost between 35 and
+    25 m/s, below the linear critical speed of the bogie alone (44.4 m/s, docs/validation.md):
+    hunting of these profiles is subcritical (True 1999). The fold is reported with its bracket
+    (the first stage's largest fall, not refined at this tolerance) and what the motion does
+    below it (the small cycle, 0.4 mm at 25 m/s: another branch); a cycle is sustained down to
+    the lowest speed, so the critical speed lies below the range, with the amplitude there
+    reported. The same runs classified with the 1 mm label floor at 3 mm give the same verdicts
+    (no threshold decides; only labels change). Runs classified as limit cycles change by less
+    than 1 % per period."""
     import railexu.stability.branch as br
 
     runs: dict = {}
@@ -500,19 +502,20 @@ def test_growth_rate_classification_of_a_bogie_branch(monkeypatch):
     vehicle = load_vehicle(VEHICLES / "eu07_bogie.yaml")
     settings = CriticalSpeedSettings(
         methods=("branch",), speed_min_m_per_s=25.0, speed_max_m_per_s=45.0,
-        branch_step_m_per_s=10.0, tolerance_m_per_s=10.0, distance_m=150.0,
+        branch_step_m_per_s=10.0, tolerance_m_per_s=10.0, distance_m=300.0,
         initial_lateral_m=0.005, max_runs=3,
     )  # fmt: skip
     result = br.branch_critical_speed(vehicle, None, settings)
     assert result["converged"] and result["unstable_in_range"], result
     fold = result["fold"]
     assert fold["bracket_m_per_s"] == [25.0, 35.0] and fold["below"]["branch"] == 1
-    assert fold["amplitude_m"] > 5e-3 > 2e-3 > fold["below"]["amplitude_m"]
+    assert fold["discontinuity"] == "not refined"
+    assert fold["amplitude_m"] > 5e-3 > 1e-3 > fold["below"]["amplitude_m"]
     low = result["lowest_cycle"]
-    assert low["speed_m_per_s"] == 25.0 and 0.5e-3 < low["amplitude_m"] < 2e-3
+    assert low["speed_m_per_s"] == 25.0 and 0.1e-3 < low["amplitude_m"] < 1e-3
     for p in result["branch"]:
-        assert p["classification"] in ("limit cycle", "growing"), p
-        if p["classification"] == "limit cycle":
+        assert p["classification"] in ("limit cycle", "small limit cycle", "growing"), p
+        if p["classification"] in ("limit cycle", "small limit cycle"):
             assert abs(p["growth_per_period"]) <= 0.01
     high_floor = br.branch_critical_speed(
         vehicle, None, replace(settings, limit_cycle_floor_m=3e-3)

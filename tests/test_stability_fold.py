@@ -365,3 +365,31 @@ def test_the_ramp_gives_a_verdict_only_where_its_two_rates_agree(monkeypatch, fa
         assert result["critical_speed_m_per_s"] is None and result["fold_m_per_s"] is None
         assert "rate-dependent, no verdict" in result["note"]
         assert unfinished_methods({"ramp": result}) == ["ramp (rate-dependent)"]
+
+
+def test_a_fold_to_rest_is_the_critical_speed(monkeypatch):
+    """The classical subcritical case (True 1999): the 7 mm cycle holds down to 32 m/s and below
+    it every motion decays to rest. The fold (a jump to rest: 7 mm to 0 in one sub-step) and the
+    lowest cycle are one bracket, refined within the 1 m/s tolerance, and the critical speed is
+    its upper end; one branch is listed."""
+    import railexu.stability.branch as br
+    from railexu.stability import branch_critical_speed
+
+    def fake(vehicle, track, speeds, settings):
+        out, large = [], True
+        for v in speeds:
+            large = large and v >= FOLD
+            c = _plateau(7e-3, 0.0, settings) if large else _plateau(2e-4, -1.0, settings)
+            out.append({"speed_m_per_s": v, **c})
+        return out
+
+    monkeypatch.setattr(br, "run_stage", fake)
+    result = branch_critical_speed(None, None, _settings())
+    assert result["status"] == "converged", result.get("note")
+    fold = result["fold"]
+    lo, hi = fold["bracket_m_per_s"]
+    assert lo < FOLD <= hi and hi - lo <= 1.0 and fold["discontinuity"] == "jump"
+    assert result["bracket_m_per_s"] == fold["bracket_m_per_s"]
+    assert result["critical_speed_m_per_s"] == hi
+    assert fold["below"]["classification"] in ("decaying", "below floor")
+    assert [b["index"] for b in result["branches"]] == [0]

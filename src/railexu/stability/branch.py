@@ -217,9 +217,9 @@ def _branch(
     search: dict = {"candidate_m_per_s": list(fold[::-1]) if fold else None, "levels": [],
                     "discontinuity": "not refined" if fold else None}  # fmt: skip
     out["fold_search"] = search
-    fold_is_loss = fold is not None and fold == loss
     while fold is not None and fold[0] - fold[1] > settings.tolerance_m_per_s + 1e-9:
         on, off = fold
+        fold_is_loss = fold == loss  # a fold to rest: this stage refines the loss as well
         speeds, first = _refining_speeds(on, off, v_max)
         if _over_budget(out, settings, speeds, "fold", on, off):
             return _finish(out, settings, fold, loss)
@@ -245,9 +245,7 @@ def _branch(
             loss = _bracket_of(found, first, loss[1])
         if not level["jump"]:
             fold = None
-    if fold is None and fold_is_loss:
-        fold_is_loss = False
-    while not fold_is_loss and loss[1] is not None:
+    while loss[1] is not None:
         on, off = loss
         if on - off <= settings.tolerance_m_per_s + 1e-9:
             break
@@ -258,8 +256,6 @@ def _branch(
         if found is None:
             return _finish(out, settings, fold, loss)
         loss = _bracket_of(found, first, off)
-    if fold_is_loss:
-        loss = fold
     return _finish(out, settings, fold, loss)
 
 

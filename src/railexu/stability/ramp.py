@@ -143,9 +143,12 @@ def _steepest_fall(windows: list[dict]) -> int | None:
 
 def _segments(windows: list[dict]) -> list[list[dict]]:
     """The ramp's windows split into runs of continuous amplitude: a run breaks at the steepest
-    fall (:func:`_steepest_fall`, the fold) and where no oscillation is fitted; a ramp too short
-    to leave two windows on either side of its steepest fall is not split there (its one fall
-    is the branch's slope or the fold: the drift it gives is an upper bound)."""
+    fall (:func:`_steepest_fall`, the fold) and where no oscillation is fitted. Above the fall
+    every fitted window counts (the branch followed from the plateau: a ramp too fast for it
+    calls its windows decaying); below it only windows on a cycle (not stable: the decay
+    after the fold is the motion's way to another attractor, not a branch). A ramp too short
+    to leave two windows on a side of its steepest fall is not split (its one fall is the
+    branch's slope or the fold: the drift it gives is an upper bound)."""
     split = _split(windows, _steepest_fall(windows))
     return split or _split(windows, None)
 
@@ -153,7 +156,8 @@ def _segments(windows: list[dict]) -> list[list[dict]]:
 def _split(windows: list[dict], fall: int | None) -> list[list[dict]]:
     out: list[list[dict]] = [[]]
     for k, w in enumerate(windows):
-        ok = _window_amplitude(w) > 0.0
+        below = fall is not None and k > fall
+        ok = _window_amplitude(w) > 0.0 and (not below or w.get("stable") is False)
         if not ok or (fall is not None and k == fall + 1):
             out.append([])
         if ok:
