@@ -119,16 +119,18 @@ def test_linear_bogie_critical_speed_matches_the_textbook_equations():
 def bisection_settings():
     return CriticalSpeedSettings(
         methods=("bisection",), speed_min_m_per_s=20.0, speed_max_m_per_s=60.0,
-        tolerance_m_per_s=5.0, distance_m=150.0, initial_lateral_m=0.004,
+        tolerance_m_per_s=5.0, distance_m=300.0, initial_lateral_m=0.004,
     )  # fmt: skip
 
 
 def test_bisection_is_deterministic_and_says_where_a_bounded_cycle_is_sustained(
     bisection_settings,
 ):
-    """The EU07 bogie (S1002 on UIC60 1:40) from a 4 mm offset: the same runs twice give the
-    same amplitudes; at 20 m/s the motion ends on a sustained small cycle (0.4 mm measured,
-    docs/validation.md), which is unstable whatever its amplitude (no threshold decides), so
+    """The EU07 bogie (S1002 on UIC60 1:40) from a 4 mm offset, runs of 300 m: the same runs
+    twice give the same amplitudes; at 20 m/s the motion ends on a sustained small cycle (0.4 mm
+    measured, docs/validation.md; after 150 m it was still growing towards it with the contact
+    force at the patch's load centroid), which is unstable whatever its amplitude (no threshold
+    decides), so
     the bisection says that it is unstable down to the range's lowest speed and that a bounded
     cycle of that amplitude exists there."""
     vehicle = load_vehicle(VEHICLES / "eu07_bogie.yaml")
