@@ -477,8 +477,19 @@ def _stage_end(found: list[dict], stage: int, first: int, out: dict) -> bool:
             "or fit_fraction"))  # fmt: skip
         return True
     if stage == 0 and found[0]["stable"]:
+        top = found[0]
+        if any(p["stable"] is False for p in found[1:]):
+            # a lower plateau, started from the top one's state, holds a cycle: the top one
+            # was still on its way (e.g. onto its cycle from a larger disturbance), not at rest
+            out.update(status="no verdict", note=(
+                f"the plateau at the highest speed, {top['speed_m_per_s']:g} m/s, is "
+                f"{top['classification']} ({(top.get('amplitude_m') or 0.0) * 1e3:.2f} mm, "
+                f"{(top.get('growth_per_period') or 0.0):+.1%} per period) while lower plateaus "
+                "started from its state hold a cycle: it had not settled; use a longer "
+                "distance"))  # fmt: skip
+            return True
         out.update(converged=True, status="converged", note=(
-            f"no limit cycle at the highest speed, {found[0]['speed_m_per_s']:g} m/s, from "
+            f"no limit cycle at the highest speed, {top['speed_m_per_s']:g} m/s, from "
             "this disturbance"))  # fmt: skip
         return True
     restart = found[first]
