@@ -215,6 +215,7 @@ def _method_status(method: str, section: dict) -> list[str]:
     if method == "ramp" and section.get("fold_m_per_s"):
         lines.append(
             f"  the cycle followed from the plateau ends at {section['fold_m_per_s']:.2f} m/s"
+            + (" (both rates agree)" if section.get("fold_rate_independent") else "")
         )
     if method == "ramp" and section.get("drift_per_period") is not None:
         lines.append(
