@@ -173,9 +173,8 @@ LOCAL_SLOPES = 5
 def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
     """``fold_m_per_s`` (the end speed of the window above the steepest fall of the amplitude,
     :func:`_steepest_fall`; None when it never falls or no cycle is sustained above it: the
-    plateau, or a window down to the fall, not stable) and
-    the drift of the branch's
-    amplitude on this ramp: within each run of continuous amplitude (:func:`_segments`) the
+    plateau, or a window down to the fall, not stable) and the drift of the branch's amplitude
+    on this ramp: within each run of continuous amplitude (:func:`_segments`) the
     local slope d ln A / dV is the running median of :data:`LOCAL_SLOPES` window-to-window
     slopes; where it is steepest the ramp reports ``branch_slope_per_m_per_s``,
     ``drift_speed_m_per_s``, ``drift_per_period`` (|slope| x a / f: the relative change of the
@@ -367,7 +366,8 @@ def ramp_critical_speed(
     if fast.get("note") and "budget" in fast["note"] and "note" not in out:
         out["note"] = f"faster ramp: {fast['note']}"
     out.update(rate_verdicts(slow, fast))
-    if out["rate_independent"] is False:
+    cut_short = {slow["status"], fast["status"]} & {"budget exhausted", "run stopped"}
+    if out["rate_independent"] is False and not cut_short:  # (else that status says why)
         out["status"] = "rate-dependent"
     if out["rate_note"]:
         out["note"] = out["rate_note"]
