@@ -156,7 +156,9 @@ def _branch(
     Returns ``critical_speed_m_per_s`` (the lowest speed with a sustained cycle or a growing
     oscillation, whatever its amplitude), ``critical_amplitude_m`` (its fitted amplitude),
     ``bracket_m_per_s`` ([highest speed without, lowest with]), ``resolution_m_per_s``, ``fold``
-    (where the branch followed from the top speed ends: :func:`_fold_section`), ``branches``
+    (where the branch followed from the top speed ends: :func:`_fold_section`), ``fold_search``
+    (the candidate, each refinement and the verdict: ``jump``, ``continuous`` or ``not
+    refined``; :mod:`railexu.stability.fold`), ``branches``
     (each branch's speeds and amplitudes, :func:`branches_of`), ``branch``: every plateau of
     every stage (speed, stage, classification, fitted amplitude of the deciding wheelset, growth
     rate, frequency, ``branch`` index), ``stages`` (the speeds of each stage), ``status``
