@@ -112,7 +112,7 @@ def command(args: argparse.Namespace) -> int:
 
 #: Statuses of a nonlinear method that did not reach a verdict within its budget.
 UNFINISHED = ("budget exhausted", "run stopped", "restart lost the cycle",
-              "restart lost the branch", "no verdict")  # fmt: skip
+              "restart lost the branch", "no verdict", "rate-dependent")  # fmt: skip
 
 
 def unfinished_methods(result: dict) -> list[str]:
@@ -192,8 +192,15 @@ def _method_status(method: str, section: dict) -> list[str]:
         amp = fold.get("amplitude_m")
         lines.append(
             f"  fold of the branch followed from the top: between {lo:.2f} and "
-            f"{hi:.2f} m/s" + (f" ({amp * 1e3:.2f} mm at {hi:.2f} m/s)" if amp else "")
+            f"{hi:.2f} m/s"
+            + (f" ({amp * 1e3:.2f} mm at {hi:.2f} m/s)" if amp else "")
+            + f", discontinuity: {fold.get('discontinuity')}"
         )
+    search = section.get("fold_search") or {}
+    if not fold and search.get("discontinuity") == "continuous":
+        lo, hi = search["levels"][-1]["bracket_m_per_s"]
+        lines.append(f"  no fold: the largest fall of the branch ({lo:.2f} to {hi:.2f} m/s) "
+                     "is continuous (it spreads over the refined sub-steps)")  # fmt: skip
     low = section.get("lowest_cycle") if method == "branch" else None
     if low and low.get("amplitude_m"):
         lines.append(
@@ -208,6 +215,7 @@ def _method_status(method: str, section: dict) -> list[str]:
     if method == "ramp" and section.get("fold_m_per_s"):
         lines.append(
             f"  the cycle followed from the plateau ends at {section['fold_m_per_s']:.2f} m/s"
+            + (" (both rates agree)" if section.get("fold_rate_independent") else "")
         )
     if method == "ramp" and section.get("drift_per_period") is not None:
         lines.append(
@@ -215,10 +223,13 @@ def _method_status(method: str, section: dict) -> list[str]:
         )
     if section.get("warning"):
         lines.append(f"  warning: {section['warning']}")
-    if "rate_independent" in section:
-        same = "agree" if section["rate_independent"] else "DISAGREE"
-        lines.append(f"  the two rates {same} within their resolutions "
-                     f"(difference {section['rate_difference_m_per_s']:.2f} m/s)")  # fmt: skip
+    if section.get("rate_independent") is not None:
+        same = "agree" if section["rate_independent"] else "DISAGREE (no verdict)"
+        diff = section.get("rate_difference_m_per_s")
+        lines.append(f"  the two rates {same} within their resolutions"
+                     + (f" (difference {diff:.2f} m/s)" if diff is not None else ""))  # fmt: skip
+    if section.get("fold_rate_independent") is False:
+        lines.append("  the two rates DISAGREE on the fold (no verdict)")
     return lines
 
 

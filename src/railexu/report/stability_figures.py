@@ -28,7 +28,8 @@ def critical_speed_figures(result: dict) -> dict[str, Figure]:
     - ``"bifurcation_diagram"``: the limit-cycle branches (fitted amplitude of the deciding
       wheelset against speed, sustained and growing filled, decaying runs open, each branch
       found joined by a line), the fold of the branch followed from the top speed as a shaded
-      bracket, the nonlinear and the linear critical speeds marked.
+      bracket (with its verdict: a jump, or not refined), the ramp's windows at both rates where
+      the ramp was run too, the nonlinear and the linear critical speeds marked.
     """
     figs: dict[str, Figure] = {}
     title = f"{result.get('vehicle', '')}: critical speed"
@@ -72,11 +73,14 @@ def _bifurcation_figure(result: dict, title: str) -> Figure:
         amps = [(a or 0.0) * 1e3 for a in b["amplitude_m"]]
         ax.plot(b["speeds_m_per_s"], amps, "-", color=f"C{b['index'] % 10}", alpha=0.6,
                 label=f"branch {b['index'] + 1}")  # fmt: skip
+    _ramp_lines(ax, result.get("ramp") or {})
     fold = branch.get("fold")
     if fold:
         lo, hi = fold["bracket_m_per_s"]
+        how = {"jump": "a jump", "not refined": "not refined"}.get(fold.get("discontinuity"), "")
         ax.axvspan(lo, hi, color="tab:orange", alpha=0.2,
-                   label=f"fold of branch 1: {lo:.2f}-{hi:.2f} m/s")  # fmt: skip
+                   label=f"fold of branch 1: {lo:.2f}-{hi:.2f} m/s"
+                   + (f" ({how})" if how else ""))  # fmt: skip
     crit = branch.get("critical_speed_m_per_s")
     if crit is not None:
         ax.axvline(crit, color="tab:red", ls="--", label=f"nonlinear (branch): {crit:.1f} m/s")
@@ -95,6 +99,19 @@ def _bifurcation_figure(result: dict, title: str) -> Figure:
     ax.grid(True, alpha=0.4)
     ax.legend(loc="upper left", fontsize="small")
     return fig
+
+
+def _ramp_lines(ax, ramp: dict) -> None:
+    """The ramp method's windows (fitted amplitude at each window's end speed), one thin line
+    per rate, where the ramp was run with the branch."""
+    for k, r in enumerate(ramp.get("ramps") or []):
+        windows = r.get("windows") or []
+        if not windows:
+            continue
+        v = [w["speed_m_per_s"] for w in windows]
+        amp = [(w.get("amplitude_m") or 0.0) * 1e3 for w in windows]
+        ax.plot(v, amp, "-", lw=0.8, color=("0.35", "0.65")[k % 2],
+                label=f"ramp at {r['deceleration_m_per_s2']:g} m/s^2 (windows)")  # fmt: skip
 
 
 def _modes(lin: dict) -> dict:

@@ -24,8 +24,9 @@ def critical_speed(
 ) -> dict:
     """Critical speed of ``vehicle`` by the chosen methods; returns the content of
     ``critical_speed.json``: ``linear_m_per_s``, ``nonlinear_bisection_m_per_s``,
-    ``nonlinear_ramp_m_per_s`` (None where a method was not run or found no crossing in the
-    range), ``nonlinear_branch_m_per_s`` (the lowest speed with a sustained cycle),
+    ``nonlinear_ramp_m_per_s`` (None where a method was not run, found no crossing in the
+    range or, for the ramp, its two rates disagree), ``nonlinear_ramp_fold_m_per_s``,
+    ``nonlinear_branch_m_per_s`` (the lowest speed with a sustained cycle),
     ``nonlinear_branch_fold_m_per_s`` and ``nonlinear_branch_fold_bracket_m_per_s`` (where the
     branch followed from the top speed ends: its fold), one section per method with its
     details, and the settings used."""
@@ -50,6 +51,7 @@ def critical_speed(
     if "ramp" in settings.methods:
         out["ramp"] = ramp_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_ramp_m_per_s"] = out["ramp"]["critical_speed_m_per_s"]
+        out["nonlinear_ramp_fold_m_per_s"] = out["ramp"].get("fold_m_per_s")
     if "branch" in settings.methods:
         out["branch"] = branch_critical_speed(vehicle, track, settings, progress)
         out["nonlinear_branch_m_per_s"] = out["branch"]["critical_speed_m_per_s"]

@@ -11,17 +11,20 @@ Dynamics 31: the branch of periodic solutions followed by continuation in speed)
 classified by the growth rate of its wheelsets' fitted envelope over the last ``fit_fraction`` of
 its time (:func:`~railexu.stability.nonlinear.classify_window`) and its amplitude recorded.
 
-Two brackets are refined. The **fold**: where the branch followed from the top speed ends, a
-plateau below it either at rest or no longer on it (its amplitude dropped below
-:data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the plateau above: the motion fell onto
-another cycle). The **lowest cycle**: the highest speed without any sustained or growing
-oscillation below the lowest speed with one (the critical speed, whatever the cycle's
-amplitude). For each, the next stage runs down quickly from the top speed to the bracket's
-upper speed (on the branch: the cycle follows a deceleration of ``2 m/s^2``, checked by that
-plateau's own classification and, for the fold, by its amplitude) and steps down from it in
-quarter steps. The stages stop when both brackets are at most ``tolerance_m_per_s``
-(``converged``) or when the next stage would exceed ``max_runs`` plateaus in all (``budget
-exhausted``)."""
+Two brackets are refined. The **fold**: where the branch followed from the top speed ends,
+found without a chosen factor (:mod:`railexu.stability.fold`): the first stage's largest fall of
+the attractor's amplitude (down to its first stable plateau, which counts 0) is the candidate;
+each refining stage steps its bracket again in sub-steps, and the bracket is a jump (a fold)
+where the largest fall across one sub-step exceeds the changes across all the others together,
+continuous otherwise (then there is no fold there: ``fold`` None, ``fold_search`` says why).
+The **lowest cycle**: the highest speed without any sustained or growing oscillation below the
+lowest speed with one (the critical speed, whatever the cycle's amplitude). For each, the next
+stage runs down quickly from the top speed to the bracket's upper speed (on the branch: the
+cycle follows a deceleration of ``2 m/s^2``, checked by that plateau's own classification and,
+for the fold, by its amplitude being nearer to the branch's than to the attractor's below) and
+steps down from it in sub-steps of :data:`REFINEMENT` of the bracket. The stages stop when both
+brackets are at most ``tolerance_m_per_s`` (``converged``) or when the next stage would exceed
+``max_runs`` plateaus in all (``budget exhausted``)."""
 
 from __future__ import annotations
 
@@ -32,7 +35,13 @@ import numpy as np
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.results.run import RunSettings, run
 from railexu.simulation.simulate import COMPLETED_STATES
-from railexu.stability.nonlinear import _judgement, _run_text, classify_window, same_branch
+from railexu.stability.fold import (
+    attractor_amplitude,
+    concentrated,
+    largest_fall,
+    nearer_to_upper,
+)
+from railexu.stability.nonlinear import _judgement, _run_text, classify_window
 from railexu.stability.settings import CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -102,7 +111,12 @@ def run_stage(
         start = t_in[0] + (1.0 - settings.fit_fraction) * (t_in[-1] - t_in[0])
         window = inside & (t >= start)
         signals = {f"ws{i}": ts[f"ws{i}_lateral_m"][window] for i in ts.wheelset_indices()}
-        out.append({**base, **classify_window(t[window], signals, settings)})
+        entry = inside & (t < start)
+        first = {f"ws{i}": ts[f"ws{i}_lateral_m"][entry] for i in ts.wheelset_indices()}
+        early = classify_window(t[entry], first, settings) if np.count_nonzero(entry) > 1 else {}
+        out.append({**base, **classify_window(t[window], signals, settings),
+                    "entry_classification": early.get("classification"),
+                    "entry_growth_per_period": early.get("growth_per_period")})  # fmt: skip
     return out
 
 
@@ -142,7 +156,9 @@ def _branch(
     Returns ``critical_speed_m_per_s`` (the lowest speed with a sustained cycle or a growing
     oscillation, whatever its amplitude), ``critical_amplitude_m`` (its fitted amplitude),
     ``bracket_m_per_s`` ([highest speed without, lowest with]), ``resolution_m_per_s``, ``fold``
-    (where the branch followed from the top speed ends: :func:`_fold_section`), ``branches``
+    (where the branch followed from the top speed ends: :func:`_fold_section`), ``fold_search``
+    (the candidate, each refinement and the verdict: ``jump``, ``continuous`` or ``not
+    refined``; :mod:`railexu.stability.fold`), ``branches``
     (each branch's speeds and amplitudes, :func:`branches_of`), ``branch``: every plateau of
     every stage (speed, stage, classification, fitted amplitude of the deciding wheelset, growth
     rate, frequency, ``branch`` index), ``stages`` (the speeds of each stage), ``status``
@@ -188,7 +204,6 @@ def _branch(
         found = run_stage(vehicle, track, speeds, settings)
         out["plateaus_run"] += len(speeds)
         out["distance_run_m"] += staircase(speeds, settings.distance_m)[1][-1][2]
-        label_branches(found)
         for p in found:
             p["stage"] = k
             points.append(p)
@@ -199,64 +214,131 @@ def _branch(
     found = stage(speeds, 0)
     if found is None:
         return _finish(out, settings)
-    fold = _follow(found, 0, None)
     loss = _bracket_of(found, 0, None)
-    fold_is_loss = fold[1] is not None and fold[1] == loss[1]
-    for target in ("fold", "loss"):
-        while True:
-            on, off = fold if target == "fold" else loss
-            if off is None or on - off <= settings.tolerance_m_per_s + 1e-9:
-                break
-            if target == "loss" and fold_is_loss:
-                loss = fold
-                break
-            step = (on - off) * REFINEMENT
-            first = 1 if on < v_max else 0
-            speeds = [v_max] * first + [on]
-            speeds += [on - j * step for j in range(1, round(1.0 / REFINEMENT))]
-            if out["plateaus_run"] + len(speeds) > settings.max_runs:
-                out["note"] = (
-                    f"budget exhausted: {out['plateaus_run']} plateaus run, refining the "
-                    f"{'fold' if target == 'fold' else 'lowest cycle'} ({off:g} to {on:g} m/s) "
-                    f"needs {len(speeds)} more than the {settings.max_runs} allowed"
-                )
-                out["budget_exhausted"] = True
-                return _finish(out, settings, fold, loss)
-            above = [p for p in points if p["speed_m_per_s"] == on and p.get("branch") == 0]
-            found = stage(speeds, first)
-            if found is None:
-                return _finish(out, settings, fold, loss)
-            if target == "fold" and above and not same_branch(above[0], found[first]):
-                out["note"] = (
-                    f"stage {len(out['stages']) - 1}: at its restart speed {on:g} m/s the motion "
-                    "is not on the branch followed from the top speed (after the deceleration "
-                    "from the top); the fold's bracket is that of the stage before"
-                )
-                out["restart_lost_branch"] = True
-                return _finish(out, settings, fold, loss)
-            if target == "fold":
-                fold = _follow(found, first, off)
-            else:
-                loss = _bracket_of(found, first, off)
+    fold = _fold_candidate(found, 0)
+    search: dict = {"candidate_m_per_s": list(fold[::-1]) if fold else None, "levels": [],
+                    "discontinuity": "not refined" if fold else None}  # fmt: skip
+    out["fold_search"] = search
+    while fold is not None and fold[0] - fold[1] > settings.tolerance_m_per_s + 1e-9:
+        on, off = fold
+        fold_is_loss = fold == loss  # a fold to rest: this stage refines the loss as well
+        speeds, first = _refining_speeds(on, off, v_max)
+        if _over_budget(out, settings, speeds, "fold", on, off):
+            return _finish(out, settings, fold, loss)
+        upper, lower = _amplitude_at(points, on), _amplitude_at(points, off)
+        found = stage(speeds, first)
+        if found is None:
+            return _finish(out, settings, fold, loss)
+        restart = found[first]
+        if not nearer_to_upper(attractor_amplitude(restart), upper, lower):
+            out["note"] = (
+                f"stage {len(out['stages']) - 1}: at its restart speed {on:g} m/s the motion "
+                f"({(restart.get('amplitude_m') or 0.0) * 1e3:.2f} mm) is nearer to the "
+                f"attractor below the fold ({lower * 1e3:.2f} mm) than to the branch followed "
+                f"from the top ({upper * 1e3:.2f} mm); the fold's bracket is that of the stage "
+                "before"
+            )
+            out["restart_lost_branch"] = True
+            return _finish(out, settings, fold, loss)
+        fold, level = _refine_fold(found[first:], off, lower)
+        search["levels"].append(level)
+        search["discontinuity"] = "jump" if level["jump"] else "continuous"
         if fold_is_loss:
-            loss = fold
+            loss = _bracket_of(found, first, loss[1])
+        if not level["jump"]:
+            fold = None
+    while loss[1] is not None:
+        on, off = loss
+        if on - off <= settings.tolerance_m_per_s + 1e-9:
+            break
+        speeds, first = _refining_speeds(on, off, v_max)
+        if _over_budget(out, settings, speeds, "lowest cycle", on, off):
+            return _finish(out, settings, fold, loss)
+        found = stage(speeds, first)
+        if found is None:
+            return _finish(out, settings, fold, loss)
+        loss = _bracket_of(found, first, off)
     return _finish(out, settings, fold, loss)
 
 
+def _refining_speeds(on: float, off: float, v_max: float) -> tuple[list[float], int]:
+    """A refining stage's speeds: the top speed (when below it), the bracket's upper end and
+    its sub-steps of :data:`REFINEMENT` of the bracket down to (not including) its lower end;
+    and the index of the upper end."""
+    step = (on - off) * REFINEMENT
+    first = 1 if on < v_max else 0
+    speeds = [v_max] * first + [on]
+    speeds += [on - j * step for j in range(1, round(1.0 / REFINEMENT))]
+    return speeds, first
+
+
+def _over_budget(out: dict, settings, speeds: list, target: str, on: float, off: float) -> bool:
+    """True (with the note set) when the next stage would pass ``max_runs`` plateaus."""
+    if out["plateaus_run"] + len(speeds) <= settings.max_runs:
+        return False
+    out["note"] = (
+        f"budget exhausted: {out['plateaus_run']} plateaus run, refining the {target} "
+        f"({off:g} to {on:g} m/s) needs {len(speeds)} more than the {settings.max_runs} allowed"
+    )
+    out["budget_exhausted"] = True
+    return True
+
+
+def _amplitude_at(points: list[dict], speed: float) -> float:
+    """The attractor's amplitude of the latest plateau run at ``speed`` [m]."""
+    at = [p for p in points if p["speed_m_per_s"] == speed]
+    return (attractor_amplitude(at[-1]) or 0.0) if at else 0.0
+
+
+def _fold_candidate(found: list[dict], first: int) -> tuple | None:
+    """``(upper, lower)`` speeds of the largest fall of the attractor's amplitude
+    (:func:`~railexu.stability.fold.largest_fall`) from plateau ``first`` down to the first
+    stable plateau (included: the motion at rest, amplitude 0); None where it never falls."""
+    seq = []
+    for p in found[first:]:
+        seq.append(p)
+        if p.get("stable") is not False:
+            break
+    amps = [attractor_amplitude(p) for p in seq]
+    if any(a is None for a in amps):
+        return None
+    j = largest_fall(amps)
+    return None if j is None else (seq[j]["speed_m_per_s"], seq[j + 1]["speed_m_per_s"])
+
+
+def _refine_fold(found: list[dict], off: float, lower_m: float) -> tuple[tuple, dict]:
+    """One refinement of the fold's bracket: ``found`` the refining stage's plateaus from the
+    bracket's upper end down, ``off`` the bracket's lower end and ``lower_m`` the attractor's
+    amplitude there. Returns the new bracket (the sub-step of the largest fall) and the level's
+    record (:func:`~railexu.stability.fold.concentrated`)."""
+    speeds = [p["speed_m_per_s"] for p in found] + [off]
+    amps = [attractor_amplitude(p) or 0.0 for p in found] + [lower_m]
+    c = concentrated(amps)
+    j = c["index"] if c["index"] is not None else len(found) - 1
+    level = {"bracket_m_per_s": [off, speeds[0]], "speeds_m_per_s": speeds,
+             "attractor_amplitude_m": amps, **{k: c[k] for k in (
+                 "largest_fall_m", "other_change_m", "jump")}}  # fmt: skip
+    return (speeds[j], speeds[j + 1]), level
+
+
 BRANCH_RULE = (
-    "a plateau is on the branch of the plateau above it when it is not stable (growing or "
-    "sustained) and its fitted amplitude is at least half the amplitude above (railexu's "
-    "assumption: a larger drop within one speed step is a jump to another branch at a fold); "
-    "the fold of the branch followed from the top speed is bracketed between its lowest plateau "
-    "and the next one below"
+    "a plateau is on a cycle when it is not stable (growing or sustained); the branch followed "
+    "from the top speed ends at a fold where its amplitude is discontinuous in speed: the "
+    "largest fall of the attractor's amplitude (a stable plateau counts 0) within the first "
+    "stage is refined, each refining stage stepping its bracket in equal sub-steps from the "
+    "settled cycle above, and it is a jump when the largest fall across one sub-step exceeds the "
+    "changes across all the other sub-steps together (on a continuous branch the change spreads "
+    "over the sub-steps and shrinks with them; across a fold it stays the whole jump); no factor "
+    "is chosen"
 )
 
 
-def label_branches(found: list[dict]) -> None:
+def label_branches(found: list[dict], fold_speed_m_per_s: float | None = None) -> None:
     """Numbers the branches down one stage (``p["branch"]``): 0 from the top plateau down to
-    its first jump (:func:`~railexu.stability.nonlinear.same_branch`: the fold), then one more
-    after that jump and after every stable plateau; stable plateaus get None. Below the fold a
-    drop is not split further: the fold reported is that of the branch followed from the top."""
+    the fold (the plateaus at or above ``fold_speed_m_per_s``, the lowest speed on the branch
+    followed from the top), then one more after the fold and after every stable plateau; stable
+    plateaus get None. Below the fold a change is not split further: the fold reported is that
+    of the branch followed from the top."""
     k, above = -1, None
     for p in found:
         if p.get("stable") is not False:
@@ -264,20 +346,13 @@ def label_branches(found: list[dict]) -> None:
             continue
         if above is None or above.get("stable") is not False:
             k += 1
-        elif k == 0 and not same_branch(above, p):
+        elif (
+            k == 0
+            and fold_speed_m_per_s is not None
+            and (p["speed_m_per_s"] < fold_speed_m_per_s - 1e-9)
+        ):
             k = 1
         p["branch"], above = k, p
-
-
-def _follow(found: list[dict], first: int, off: float | None) -> tuple:
-    """``(lowest speed on the branch followed from plateau first, the next speed below it)``;
-    ``off`` (the bracket's lower end so far) where the stage kept the branch to its end."""
-    on = found[first]
-    for p in found[first + 1 :]:
-        if not same_branch(on, p):
-            return on["speed_m_per_s"], p["speed_m_per_s"]
-        on = p
-    return on["speed_m_per_s"], off
 
 
 def branches_of(points: list[dict]) -> list[dict]:
@@ -295,12 +370,16 @@ def branches_of(points: list[dict]) -> list[dict]:
     return out
 
 
-def _fold_section(points: list[dict], fold: tuple | None, settings) -> dict | None:
+def _fold_section(points: list[dict], fold: tuple | None, settings, search: dict) -> dict | None:
     """Where the branch followed from the top speed ends: ``bracket_m_per_s`` ([the speed below
     which it is lost, the lowest speed on it]), ``speed_m_per_s`` (the lowest on it),
-    ``amplitude_m`` there, ``resolution_m_per_s``, ``converged`` (within ``tolerance``) and what
-    the motion does below it (``below``: classification and amplitude). None when the branch
-    holds down to the lowest speed, or there was none."""
+    ``amplitude_m`` there, ``resolution_m_per_s``, ``converged`` (within ``tolerance``),
+    ``discontinuity`` (``jump``: every refinement found the change in one sub-step; ``not
+    refined``: the first stage's largest fall, its steps within the tolerance), ``levels`` (each
+    refinement's record, :func:`_refine_fold`) and what the motion does below it (``below``:
+    classification, amplitude and the envelope's growth over the plateau's first part, where it
+    leaves the cycle above). None when the branch holds down to the lowest speed, or the
+    largest fall was found continuous (``fold_search``)."""
     if not fold or fold[1] is None:
         return None
     on, off = fold
@@ -309,12 +388,22 @@ def _fold_section(points: list[dict], fold: tuple | None, settings) -> dict | No
     out = {"bracket_m_per_s": [off, on], "speed_m_per_s": on,
            "amplitude_m": at[-1].get("amplitude_m") if at else None,
            "resolution_m_per_s": on - off,
-           "converged": on - off <= settings.tolerance_m_per_s + 1e-9}  # fmt: skip
+           "converged": on - off <= settings.tolerance_m_per_s + 1e-9,
+           "discontinuity": search.get("discontinuity"),
+           "levels": search.get("levels", [])}  # fmt: skip
     if below:
         b = below[-1]
-        out["below"] = {"classification": b["classification"], "amplitude_m": b.get("amplitude_m"),
-                        "branch": b.get("branch")}  # fmt: skip
+        out["below"] = {k: b.get(k) for k in ("classification", "amplitude_m", "branch",
+                                              "entry_classification",
+                                              "entry_growth_per_period")}  # fmt: skip
     return out
+
+
+def _label(points: list[dict], fold: tuple | None) -> None:
+    """Branch labels of every stage's plateaus (:func:`label_branches`) from the fold found."""
+    speed = fold[0] if fold and fold[1] is not None else None
+    for k in sorted({p["stage"] for p in points}):
+        label_branches([p for p in points if p["stage"] == k], speed)
 
 
 def _finish(out: dict, settings, fold: tuple | None = None, loss: tuple | None = None) -> dict:
@@ -323,8 +412,9 @@ def _finish(out: dict, settings, fold: tuple | None = None, loss: tuple | None =
     ended = out["status"] in ("run stopped", "restart lost the cycle", "no verdict")
     ended_status = out["status"]
     points = out["branch"]
+    _label(points, fold)
     out["branches"] = branches_of(points)
-    out["fold"] = _fold_section(points, fold, settings)
+    out["fold"] = _fold_section(points, fold, settings, out.get("fold_search") or {})
     if loss is None:
         return out
     hunting, lost = loss
@@ -389,8 +479,19 @@ def _stage_end(found: list[dict], stage: int, first: int, out: dict) -> bool:
             "or fit_fraction"))  # fmt: skip
         return True
     if stage == 0 and found[0]["stable"]:
+        top = found[0]
+        if any(p["stable"] is False for p in found[1:]):
+            # a lower plateau, started from the top one's state, holds a cycle: the top one
+            # was still on its way (e.g. onto its cycle from a larger disturbance), not at rest
+            out.update(status="no verdict", note=(
+                f"the plateau at the highest speed, {top['speed_m_per_s']:g} m/s, is "
+                f"{top['classification']} ({(top.get('amplitude_m') or 0.0) * 1e3:.2f} mm, "
+                f"{(top.get('growth_per_period') or 0.0):+.1%} per period) while lower plateaus "
+                "started from its state hold a cycle: it had not settled; use a longer "
+                "distance"))  # fmt: skip
+            return True
         out.update(converged=True, status="converged", note=(
-            f"no limit cycle at the highest speed, {found[0]['speed_m_per_s']:g} m/s, from "
+            f"no limit cycle at the highest speed, {top['speed_m_per_s']:g} m/s, from "
             "this disturbance"))  # fmt: skip
         return True
     restart = found[first]

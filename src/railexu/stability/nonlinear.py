@@ -108,27 +108,6 @@ def classify_window(t_s: np.ndarray, lateral_m: dict, settings: CriticalSpeedSet
     }
 
 
-#: A plateau whose fitted amplitude is below this fraction of the amplitude one plateau above
-#: (one step lower in speed, starting from that plateau's state) is no longer on the branch
-#: followed: the motion fell at a fold onto another branch or towards rest (railexu's
-#: assumption). Along a continuous branch the change over one step shrinks with the step (the
-#: refining stages step in quarters), across a fold it does not. Measured with 5 m/s steps
-#: (docs/validation.md): across the large cycle's fold 6.13 -> 1.83 mm (EU07 bogie, 1.25 m/s
-#: step) and 6.52 -> 2.33 mm (EU07); along the large cycle 7.58 -> 6.76 mm; along the bogie's
-#: small cycle 1.68 -> 1.02 mm.
-JUMP_FRACTION = 0.5
-
-
-def same_branch(above: dict, below: dict) -> bool:
-    """``below`` (one plateau, or one ramp window, lower in speed, starting from the state of
-    ``above``) continues the branch of ``above``: both not stable and the amplitude not dropped
-    below :data:`JUMP_FRACTION` of it."""
-    if below.get("stable") is not False or above.get("stable") is not False:
-        return False
-    a, b = above.get("amplitude_m"), below.get("amplitude_m")
-    return a is None or b is None or b >= JUMP_FRACTION * a
-
-
 def _run_at(vehicle, track, speed: float, settings: CriticalSpeedSettings, offset_m: float):
     return run(
         vehicle,

@@ -26,11 +26,13 @@ the largest drift per period (``drift_per_period`` at ``drift_speed_m_per_s``,
 
 The method runs the ramp at ``ramp_deceleration`` and, to show the result rate-independent, at
 :data:`FASTER` times it (or at it divided by :data:`FASTER` where twice would pass the steepest
-deceleration allowed, 5 m/s^2); it reports the slower ramp's speed, both speeds and whether
-they agree within the sum of their resolutions (``rate_independent``). Each ramp also reports
-where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the last window
-on that branch, :func:`~railexu.stability.nonlinear.same_branch`), and the method whether the
-two ramps' folds agree (``fold_rate_independent``). Every ramp has a distance
+deceleration allowed, 5 m/s^2). Each ramp reports where its last sustained window ends and
+where the cycle it follows from the plateau ends (``fold_m_per_s``: the end of the window above
+the steepest fall of the amplitude, :func:`_steepest_fall`; whether that fall is a
+discontinuity is the branch method's verdict, :mod:`railexu.stability.fold`). The method's
+results are those speeds where the two ramps agree within the sum of their resolutions (the
+slower ramp's value); where they do not, the result is ``rate-dependent``: no verdict, with
+both values (:func:`rate_verdicts`). Every ramp has a distance
 budget (``ramp_budget``): a ramp that would run further is cut at its budget and says so
 (``budget exhausted``), it never runs on."""
 
@@ -43,7 +45,8 @@ import numpy as np
 from railexu.operation.speed_profile import SpeedProfile
 from railexu.results.run import RunSettings, run
 from railexu.simulation.simulate import COMPLETED_STATES
-from railexu.stability.nonlinear import JUMP_FRACTION, _judgement, classify_window, same_branch
+from railexu.stability.fold import largest_fall
+from railexu.stability.nonlinear import _judgement, classify_window
 from railexu.stability.settings import MAX_DECELERATION_M_PER_S2, CriticalSpeedSettings
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -122,31 +125,40 @@ def classify_ramp(ts, settle_m: float, a: float, settings: CriticalSpeedSettings
     return out
 
 
-def _followed(windows: list[dict], plateau: dict) -> list[dict]:
-    """The windows on the branch followed from the settling plateau, in order, up to the first
-    that leaves it (:func:`~railexu.stability.nonlinear.same_branch`)."""
-    on, above = [], plateau
-    for w in windows:
-        if not same_branch(above, w):
-            break
-        on.append(w)
-        above = w
-    return on
+def _window_amplitude(w: dict) -> float:
+    """A window's fitted amplitude [m] where it holds one oscillation, else 0 (below the floor,
+    broad-band): the classification does not matter (a ramp too fast for its branch calls its
+    windows decaying, and their amplitudes still show the branch)."""
+    fitted = bool(w.get("amplitude_m") and w.get("frequency_Hz")) and w.get(
+        "classification") not in ("below floor", "broad-band", "large broad-band")  # fmt: skip
+    return float(w["amplitude_m"]) if fitted else 0.0
+
+
+def _steepest_fall(windows: list[dict]) -> int | None:
+    """Index of the window above the largest fall of the amplitude from one window to the next
+    (:func:`~railexu.stability.fold.largest_fall`): where the cycle followed from the plateau
+    ends on this ramp; None where it never falls."""
+    return largest_fall([_window_amplitude(w) for w in windows])
 
 
 def _segments(windows: list[dict]) -> list[list[dict]]:
-    """The ramp's windows split into runs of continuous amplitude: a run breaks where a window's
-    amplitude drops below :data:`~railexu.stability.nonlinear.JUMP_FRACTION` of the window
-    before (a fold) or no oscillation is fitted; the classification does not matter (a ramp
-    too fast for its branch calls its windows decaying, and their amplitudes still show the
-    branch's slope)."""
+    """The ramp's windows split into runs of continuous amplitude: a run breaks at the steepest
+    fall (:func:`_steepest_fall`, the fold) and where no oscillation is fitted. Above the fall
+    every fitted window counts (the branch followed from the plateau: a ramp too fast for it
+    calls its windows decaying); below it only windows on a cycle (not stable: the decay
+    after the fold is the motion's way to another attractor, not a branch). A ramp too short
+    to leave two windows on a side of its steepest fall is not split (its one fall is the
+    branch's slope or the fold: the drift it gives is an upper bound)."""
+    split = _split(windows, _steepest_fall(windows))
+    return split or _split(windows, None)
+
+
+def _split(windows: list[dict], fall: int | None) -> list[list[dict]]:
     out: list[list[dict]] = [[]]
-    for w in windows:
-        amp, f = w.get("amplitude_m"), w.get("frequency_Hz")
-        ok = bool(amp and f) and w.get("classification") not in (
-            "below floor", "broad-band", "large broad-band")  # fmt: skip
-        last = out[-1][-1]["amplitude_m"] if out[-1] else None
-        if not ok or (last and amp < JUMP_FRACTION * last):
+    for k, w in enumerate(windows):
+        below = fall is not None and k > fall
+        ok = _window_amplitude(w) > 0.0 and (not below or w.get("stable") is False)
+        if not ok or (fall is not None and k == fall + 1):
             out.append([])
         if ok:
             out[-1].append(w)
@@ -159,19 +171,23 @@ LOCAL_SLOPES = 5
 
 
 def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
-    """``fold_m_per_s`` (the end speed of the last window on the branch followed from the
-    plateau; None when it holds to the end or there is none) and the drift of the branch's
-    amplitude on this ramp: within each run of continuous amplitude (:func:`_segments`) the
+    """``fold_m_per_s`` (the end speed of the window above the steepest fall of the amplitude,
+    :func:`_steepest_fall`; None when it never falls or no cycle is sustained above it: the
+    plateau, or a window down to the fall, not stable) and the drift of the branch's amplitude
+    on this ramp: within each run of continuous amplitude (:func:`_segments`) the
     local slope d ln A / dV is the running median of :data:`LOCAL_SLOPES` window-to-window
     slopes; where it is steepest the ramp reports ``branch_slope_per_m_per_s``,
     ``drift_speed_m_per_s``, ``drift_per_period`` (|slope| x a / f: the relative change of the
     branch's amplitude per period), ``drift_within_band`` (at most
     :data:`MAX_DRIFT_PER_PERIOD`) and ``max_deceleration_m_per_s2`` (the rate that keeps it
     there)."""
-    on = _followed(windows, plateau) if plateau.get("stable") is False else []
     out: dict = {"fold_m_per_s": None, "drift_per_period": None}
-    if on and len(on) < len(windows):
-        out["fold_m_per_s"] = on[-1]["speed_m_per_s"]
+    fall = _steepest_fall(windows)
+    cycle_above = fall is not None and (
+        plateau.get("stable") is False or any(w["stable"] is False for w in windows[: fall + 1])
+    )
+    if cycle_above:
+        out["fold_m_per_s"] = windows[fall]["speed_m_per_s"]
     worst = None
     for seg in _segments(windows):
         v = np.array([w["speed_m_per_s"] for w in seg])
@@ -192,6 +208,58 @@ def _drift(windows: list[dict], plateau: dict, a: float) -> dict:
                drift_within_band=drift <= MAX_DRIFT_PER_PERIOD,
                max_deceleration_m_per_s2=(MAX_DRIFT_PER_PERIOD * f_mean / abs(slope)
                                           if slope else None))  # fmt: skip
+    return out
+
+
+def _agree(slow: dict, fast: dict, key: str) -> tuple[float | None, bool | None, str]:
+    """The slower ramp's ``key`` where both ramps found one within the sum of their resolutions
+    (and whether they agree); None and False where they differ or only one found it; None and
+    None where neither did."""
+    v_slow, v_fast = slow.get(key), fast.get(key)
+    if v_slow is None and v_fast is None:
+        return None, None, ""
+    both = (
+        f"{_text(v_slow)} at {slow['deceleration_m_per_s2']:g} m/s^2, {_text(v_fast)} at "
+        f"{fast['deceleration_m_per_s2']:g} m/s^2"
+    )
+    if v_slow is None or v_fast is None:
+        return None, False, both
+    tolerance = (slow.get("resolution_m_per_s") or 0.0) + (fast.get("resolution_m_per_s") or 0.0)
+    agree = abs(v_slow - v_fast) <= tolerance + 1e-9
+    return (v_slow if agree else None), agree, both + f" (tolerance {tolerance:.2f} m/s)"
+
+
+def _text(v: float | None) -> str:
+    return f"{v:.2f} m/s" if v is not None else "none"
+
+
+def rate_verdicts(slow: dict, fast: dict) -> dict:
+    """The ramp method's results from its two ramps: ``critical_speed_m_per_s`` (where the last
+    sustained window ends) and ``fold_m_per_s`` (where the cycle followed from the plateau
+    falls most steeply), each the slower ramp's value where the two ramps agree within the sum
+    of their stated resolutions (deceleration x window), None where they do not (a
+    rate-dependent result is no verdict: slower ramps are needed); ``rate_independent`` and
+    ``fold_rate_independent`` (None where neither ramp found one), both ramps' values
+    (``..._by_rate``, slower first), ``rate_difference_m_per_s`` and a ``rate_note`` saying
+    which result depends on the rate."""
+    v, same, v_text = _agree(slow, fast, "critical_speed_m_per_s")
+    f, fold_same, f_text = _agree(slow, fast, "fold_m_per_s")
+    out = {"critical_speed_m_per_s": v, "rate_independent": same, "fold_m_per_s": f,
+           "fold_rate_independent": fold_same,
+           "critical_speed_m_per_s_by_rate": [slow.get("critical_speed_m_per_s"),
+                                              fast.get("critical_speed_m_per_s")],
+           "fold_m_per_s_by_rate": [slow.get("fold_m_per_s"),
+                                    fast.get("fold_m_per_s")]}  # fmt: skip
+    if None not in out["critical_speed_m_per_s_by_rate"]:
+        out["rate_difference_m_per_s"] = abs(
+            slow["critical_speed_m_per_s"] - fast["critical_speed_m_per_s"]
+        )
+    words = []
+    if same is False:
+        words.append(f"rate-dependent, no verdict: the last sustained window ends at {v_text}")
+    if fold_same is False:
+        words.append(f"the steepest fall (fold) is rate-dependent: {f_text}")
+    out["rate_note"] = "; ".join(words) + ("; slower ramps are needed" if words else "")
     return out
 
 
@@ -248,14 +316,16 @@ def ramp_critical_speed(
 ) -> dict:
     """Nonlinear critical speed by the ramp method at two rates (module docstring).
 
-    Returns ``critical_speed_m_per_s`` (the slower, requested ramp's), ``resolution_m_per_s``,
-    ``fold_m_per_s`` (where the cycle followed from the plateau ends), ``drift_per_period``,
-    ``drift_within_band``, ``max_deceleration_m_per_s2``,
-    ``rate_independent`` (the two ramps agree within the sum of their resolutions),
-    ``rate_difference_m_per_s``, ``status`` (``converged``, ``budget exhausted``, ``run stopped``
-    or ``not found``), ``ramps`` (both, each with its windows), ``speeds_m_per_s`` and
-    ``amplitude_m`` (the slower ramp's windows, for the figure), the disturbance and the
-    judgement."""
+    Returns ``critical_speed_m_per_s`` and ``fold_m_per_s`` (where the last sustained window
+    ends, and where the cycle followed from the plateau falls most steeply: the slower ramp's
+    value where the two ramps agree within the sum of their resolutions, None where they do
+    not, :func:`rate_verdicts`), ``resolution_m_per_s`` (the slower ramp's), ``drift_per_period``,
+    ``drift_within_band``, ``max_deceleration_m_per_s2``, ``rate_independent``,
+    ``fold_rate_independent``, both ramps' values, ``rate_difference_m_per_s``, ``status``
+    (``converged``, ``rate-dependent``: the two rates disagree, no verdict; ``budget
+    exhausted``, ``run stopped`` or ``not found``), ``ramps`` (both, each with its windows),
+    ``speeds_m_per_s`` and ``amplitude_m`` (the slower ramp's windows, for the figure), the
+    disturbance and the judgement."""
     settings = settings or CriticalSpeedSettings()
     track = track or ideal_straight_track()
     ramps = []
@@ -295,20 +365,12 @@ def ramp_critical_speed(
         out["note"] = slow["note"]
     if fast.get("note") and "budget" in fast["note"] and "note" not in out:
         out["note"] = f"faster ramp: {fast['note']}"
-    v1, v2 = fast.get("critical_speed_m_per_s"), slow.get("critical_speed_m_per_s")
-    if v1 is not None and v2 is not None:
-        diff = abs(v1 - v2)
-        out["rate_difference_m_per_s"] = diff
-        out["rate_independent"] = diff <= fast["resolution_m_per_s"] + slow["resolution_m_per_s"]
-        if not out["rate_independent"]:
-            out["note"] = (f"rate-dependent: {v1:.2f} m/s at {fast['deceleration_m_per_s2']:g} "
-                           f"m/s^2, {v2:.2f} at {slow['deceleration_m_per_s2']:g}: slower "
-                           "ramps are needed")  # fmt: skip
-    f1, f2 = fast.get("fold_m_per_s"), slow.get("fold_m_per_s")
-    if f1 is not None and f2 is not None:
-        out["fold_rate_independent"] = abs(f1 - f2) <= (
-            fast["resolution_m_per_s"] + slow["resolution_m_per_s"]
-        )
+    out.update(rate_verdicts(slow, fast))
+    cut_short = {slow["status"], fast["status"]} & {"budget exhausted", "run stopped"}
+    if out["rate_independent"] is False and not cut_short:  # (else that status says why)
+        out["status"] = "rate-dependent"
+    if out["rate_note"]:
+        out["note"] = out["rate_note"]
     if slow.get("note") == "still hunting at the end of the ramp":
         out["unstable_in_range"] = True
     if slow.get("drift_within_band") is False:
