@@ -70,8 +70,7 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
     body.append("<h2>Quasi-static tests</h2>")
     for key, title in (("twist_test", "Safety against derailment on twisted track"),
                        ("yaw_resistance_test", "Bogie yaw resistance")):  # fmt: skip
-        entry = data.get(key, {})
-        rows = [(k, _text(v)) for k, v in entry.items() if not isinstance(v, dict | list)]
+        rows = _test_rows(data.get(key, {}))
         body.append(f"<h3>{escape(title)}</h3>" + table(rows, ("quantity", "value")))
     for rel in data.get("figures", []):
         path = Path(folder) / rel
@@ -80,6 +79,25 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
             body.append(f'<figure><img alt="{escape(rel)}" src="data:image/png;base64,{b64}">'
                         f"<figcaption>{escape(rel)}</figcaption></figure>")  # fmt: skip
     return page(f"Acceptance {vehicle.get('name', '')}", body)
+
+
+def _test_rows(entry: dict, prefix: str = "") -> list[tuple[str, str]]:
+    """A quasi-static test's rows: its plain values, its lists of numbers joined, and one
+    level of nested mappings (the run's status; a yaw-resistance test outside the wagon
+    category keeps its X factor under ``informative``) with the mapping's name before each
+    key, so that a reader sees the value that was not judged."""
+    rows = []
+    for k, v in entry.items():
+        name = f"{prefix}{k}"
+        if isinstance(v, dict):
+            if not prefix:
+                rows += _test_rows(v, prefix=f"{k}: ")
+        elif isinstance(v, list):
+            if all(isinstance(x, int | float | str) for x in v):
+                rows.append((name, ", ".join(_text(x) for x in v)))
+        else:
+            rows.append((name, _text(v)))
+    return rows
 
 
 def _zone_html(name: str, zone: dict, escape, table, raw) -> str:

@@ -91,10 +91,7 @@ def decide(data: dict) -> dict[str, Any]:
         entry = data.get(test, {})
         status = entry.get("status")
         if status == "completed" and entry.get("pass") is False:
-            value = next((entry[k] for k in ("value", "x_factor", "y_over_q", "unloading")
-                          if entry.get(k) is not None), None)  # fmt: skip
-            failed.append(f"{test}: {_num(value)} > "
-                          f"{_num(entry.get('limit'))} ({entry.get('clause', '')})")  # fmt: skip
+            failed.append(_test_failure(test, entry))
         elif status not in ("completed", "not_applicable"):
             missing.append(f"{test}: {status or 'not run'} ({entry.get('reason', '')})")
     if data["programme"]["quick"]:
@@ -107,6 +104,32 @@ def decide(data: dict) -> dict[str, Any]:
         result, reason = "pass", "every criterion within its limit"
     return {"result": result, "reason": reason, "failed": failed, "missing": missing,
             "assumptions": assumptions}  # fmt: skip
+
+
+#: The quantities of a quasi-static test's mapping with the key of their limit: the twist
+#: test's Y/Q and wheel unloading (``assessment/acceptance/twist.py``), the yaw-resistance
+#: test's X factor (``assessment/acceptance/yaw_resistance.py``), or a plain value.
+TEST_QUANTITIES = (
+    ("y_over_q", "y_over_q_limit"),
+    ("unloading", "unloading_limit"),
+    ("x_factor", "limit"),
+    ("value", "limit"),
+)
+
+
+def _test_failure(test: str, entry: dict) -> str:
+    """What failed in a quasi-static test: each quantity above its own limit, or, when none
+    is (a run that did not reach its end), the test's run status."""
+    exceeded = []
+    for key, limit_key in TEST_QUANTITIES:
+        value, limit = entry.get(key), entry.get(limit_key)
+        if isinstance(value, int | float) and isinstance(limit, int | float) and value > limit:
+            exceeded.append(f"{key} {_num(value)} > {_num(limit)}")
+    if not exceeded:
+        run = entry.get("run_status") or {}
+        state = run.get("state") if isinstance(run, dict) else run
+        exceeded.append(f"did not pass (run: {state or 'unknown'})")
+    return f"{test}: {'; '.join(exceeded)} ({entry.get('clause', '')})"
 
 
 def write_acceptance(path: Path, data: dict) -> None:

@@ -1,0 +1,150 @@
+"""What an acceptance folder shows a reader (issue 27): the quasi-static tests' values with
+their own limits in the verdict, the twist test's ``limit`` key of acceptance.json, the
+yaw-resistance X factor that is kept for information (not judged) on the report page, and the
+zone figures' titles inside the figure. Synthetic acceptance mappings: no simulation."""
+
+from __future__ import annotations
+
+import pytest
+
+from railexu.assessment.acceptance.twist import TwistTestResult
+from railexu.study.acceptance.verdict import decide, write_acceptance
+
+
+def _twist(y_over_q: float, unloading: float) -> dict:
+    """A completed twist test's mapping as ``TwistTestResult.to_dict`` writes it (limits of
+    EN 14363:2016, 6.1: Y/Q 1.2, unloading 0.6), after the runner's ``_guarded``."""
+    result = TwistTestResult(
+        y_over_q=y_over_q, y_over_q_limit=1.2, wheel="ws1_right", unloading=unloading,
+        unloading_limit=0.6, unloading_wheel="ws1_right",
+        passed=y_over_q <= 1.2 and unloading <= 0.6, twist_per_mille=3.05, twist_base_m=19.0,
+        radius_m=150.0, direction="left", max_cant_m=0.15, speed_m_per_s=1.5,
+        window_m=(5.0, 9.0), status={"state": "completed"},
+    )  # fmt: skip
+    entry = result.to_dict()
+    entry["run_status"] = entry.pop("status")
+    return {"status": "completed", **entry}
+
+
+def _data(twist: dict, yaw: dict) -> dict:
+    return {
+        "standard": "EN 14363:2016",
+        "category": "coach",
+        "vehicle": {"name": "a coach", "file": "coach.yaml", "sha256": "0" * 64},
+        "programme": {"name": "p", "file": "p.yaml", "quick": False},
+        "zones": {},
+        "twist_test": twist,
+        "yaw_resistance_test": yaw,
+    }
+
+
+def test_the_twist_test_names_its_deciding_limit():
+    """acceptance.json's ``twist_test`` has the keys issue 27 names: ``y_over_q``, ``limit``
+    (the flange-climbing limit 1.2 of EN 14363:2016, 6.1), ``pass``, the twist and the radius."""
+    entry = _twist(0.88, 0.30)
+    assert entry["y_over_q"] == 0.88 and entry["limit"] == 1.2 and entry["pass"] is True
+    assert entry["twist_per_mille"] == 3.05 and entry["radius_m"] == 150.0
+
+
+@pytest.mark.parametrize(
+    ("y_over_q", "unloading", "expected"),
+    [
+        (1.35, 0.30, ["y_over_q 1.35 > 1.2"]),
+        (0.80, 0.72, ["unloading 0.72 > 0.6"]),
+        (1.35, 0.72, ["y_over_q 1.35 > 1.2", "unloading 0.72 > 0.6"]),
+    ],
+)
+def test_a_failed_twist_test_names_each_quantity_against_its_own_limit(
+    y_over_q, unloading, expected
+):
+    """A twist test that fails by Y/Q, by the wheel unloading or by both says which, each with
+    its own limit (before: the Y/Q against ``None`` whichever had failed)."""
+    data = _data(_twist(y_over_q, unloading), {"status": "not_applicable", "reason": "coach"})
+    verdict = decide(data)
+    assert verdict["result"] == "fail"
+    (line,) = verdict["failed"]
+    assert line.startswith("twist_test: ") and "None" not in line
+    for text in expected:
+        assert text in line
+    assert "EN 14363:2016, 6.1" in line
+    if len(expected) == 1:
+        other = "unloading" if "y_over_q" in expected[0] else "y_over_q"
+        assert other not in line
+
+
+def test_a_twist_run_that_failed_to_finish_says_so():
+    entry = _twist(0.5, 0.2) | {"pass": False, "run_status": {"state": "diverged"}}
+    verdict = decide(_data(entry, {"status": "not_applicable"}))
+    assert verdict["result"] == "fail"
+    assert "did not pass (run: diverged)" in verdict["failed"][0]
+
+
+def test_the_report_page_shows_the_quasi_static_values_that_are_not_judged(tmp_path):
+    """A coach's yaw-resistance test is not judged (X <= 0.1 is UIC 530-2's freight-wagon
+    limit); its X factor is kept under ``informative`` and the page shows it, as it shows the
+    twist test's run state and evaluation window."""
+    from railexu.report.html_report import write_report
+
+    yaw = {
+        "status": "not_applicable",
+        "reason": "the X factor limit (0.1) is UIC 530-2's for freight wagons",
+        "assumption": True,
+        "informative": {"x_factor": 0.157, "limit": 0.1, "max_moment_N_m": 21.9e3},
+    }
+    data = _data(_twist(0.634, 0.295), yaw)
+    data["verdict"] = decide(data)
+    write_acceptance(tmp_path / "acceptance.json", data)
+    text = write_report(tmp_path)[0].read_text()
+    assert "informative: x_factor" in text and "0.157" in text
+    assert "run_status: state" in text and "window_m" in text and "5, 9" in text
+    assert "y_over_q" in text and "0.634" in text
+
+
+def _figure_data(vehicle_name: str) -> dict:
+    """A quick acceptance's mapping with one two-dimensional curve zone of 4 sections."""
+    sections, values = [], [0.40, 0.45, 0.52, 0.48]
+    for i, (y, d, r) in enumerate(zip(values, (0.06, 0.15, 0.10, 0.12),
+                                      (250.0, 300.0, 350.0, 400.0), strict=True)):  # fmt: skip
+        sections.append({"section": i, "values": {"Y_over_Q_2m": y},
+                         "conditions": {"cant_deficiency_m": d, "radius_m": r}})  # fmt: skip
+    criterion = {
+        "value": 0.62, "limit": 0.8, "pass": True, "unit": "1", "method": "two_dimensional",
+        "sections": [0, 1, 2, 3],
+        "details": {"coefficients": [0.2, 1.5, 20.0], "at": [0.15, 1 / 250.0]},
+    }  # fmt: skip
+    zone = {
+        "method": "two_dimensional",
+        "conditions": {"regressors": ["cant_deficiency", "curvature"]},
+        "sections": sections,
+        "criteria": {"Y_over_Q_2m": criterion},
+    }
+    return {
+        "vehicle": {"name": vehicle_name},
+        "programme": {"quick": True},
+        "zones": {"curve_very_small_radius": zone},
+    }
+
+
+@pytest.mark.parametrize("name", ["Manchester coach extended", "x" * 40 + " " + "y" * 60])
+def test_the_zone_figures_titles_stay_inside_the_figure(name):
+    """Every title of a zone figure, the quick programme's notice included, lies inside the
+    figure (issue 27: titles were cut at both edges); a long vehicle name is wrapped."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from railexu.report.acceptance_figures import _zone_figure
+
+    data = _figure_data(name)
+    zone = data["zones"]["curve_very_small_radius"]
+    fig = _zone_figure("curve_very_small_radius", zone, zone["criteria"], data)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    width, height = fig.bbox.width, fig.bbox.height
+    titles = list(fig.texts) + [ax.title for ax in fig.axes if ax.get_visible()]
+    assert any("quick programme" in t.get_text() for t in titles)
+    for text in titles:
+        if not text.get_text():
+            continue
+        box = text.get_window_extent(renderer)
+        assert box.x0 >= 0.0 and box.x1 <= width, text.get_text()
+        assert box.y0 >= 0.0 and box.y1 <= height, text.get_text()
