@@ -148,3 +148,50 @@ def test_the_zone_figures_titles_stay_inside_the_figure(name):
         box = text.get_window_extent(renderer)
         assert box.x0 >= 0.0 and box.x1 <= width, text.get_text()
         assert box.y0 >= 0.0 and box.y1 <= height, text.get_text()
+
+
+def _texts_outside(fig) -> list[str]:
+    """The titles (the figure's and every axes') that reach beyond the figure's edges."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    out = []
+    for text in list(fig.texts) + [ax.title for ax in fig.axes]:
+        if text.get_text():
+            box = text.get_window_extent(renderer)
+            if box.x0 < 0.0 or box.x1 > fig.bbox.width or box.y0 < 0.0 or (
+                box.y1 > fig.bbox.height
+            ):  # fmt: skip
+                out.append(text.get_text())
+    return out
+
+
+@pytest.mark.parametrize(
+    "title",
+    ["EU07 at 30 m/s", "Manchester coach extended at 20.2462 m/s",
+     "Hbbins loaded at 36.6667 m/s"],
+)  # fmt: skip
+def test_the_run_figures_titles_stay_inside_the_figure(title):
+    """A section's run figures (a shipped vehicle's name and the section's speed as the run
+    writes them) keep every title inside the figure; the lateral displacement's title with the
+    hunting verdict ran over both edges for the coach (-14 to 1074 px of 1000) and is wrapped.
+    Synthetic series of tests/test_results.py (a 20 m hunting wave)."""
+    import math
+
+    import numpy as np
+    from test_results import WHEEL_LOAD_N, make_ts, summary_of
+
+    from railexu.report.run_figures import run_figures
+
+    x = np.arange(0.0, 120.0, 0.1)
+    y = 6e-3 * np.sin(2 * np.pi * x / 20.0)
+    forces = {(1, "left"): (np.where(y > 5e-3, -30e3, 2e3), WHEEL_LOAD_N)}
+    angles = {(1, "left"): np.where(y > 5e-3, math.radians(68), 0.02)}
+    ts = make_ts(x, [y, 0.8 * y], forces=forces, angles=angles,
+                 bodies={"bogie_1": 0.5 * y, "car_body": 0.1 * y})  # fmt: skip
+    summary = summary_of(ts)
+    assert summary["hunting"]["detected"]  # the long title: the verdict is in it
+    for name, fig in run_figures(ts, summary, title=title).items():
+        assert _texts_outside(fig) == [], name

@@ -220,7 +220,8 @@ def _lateral_displacement(page: _Page) -> Figure:
     ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
     fig = new_figure(figsize=(10, 5))
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.92)
+    # top margin for a title of two lines (a long vehicle name and the hunting verdict)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.87)
     ax = fig.subplots()
     for i in indices:
         ax.plot(*_envelope(x, ts[f"ws{i}_lateral_m"] * 1e3), lw=1.2, label=labels[i])
@@ -228,8 +229,8 @@ def _lateral_displacement(page: _Page) -> Figure:
         ax.plot(*_envelope(x, ts[f"{body}_lateral_m"] * 1e3), "--", lw=1.0,
                 label=body.replace("_", " "))  # fmt: skip
     _shade_outside_window(ax, summary, x)
-    _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]",
-                 f"{prefix}lateral displacement{_hunting_text(summary)}")  # fmt: skip
+    title = _wrapped(f"{prefix}lateral displacement{_hunting_text(summary)}", 10 * 0.9)
+    _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]", title)
     return fig
 
 
@@ -359,6 +360,18 @@ RUN_FIGURES: dict[str, Callable[[_Page], Figure]] = {
     "sum_y": _sum_y,
     "accelerations": _accelerations,
 }
+
+
+#: characters of a 12 pt title per inch (a wide character is about 0.6 of the font size)
+_TITLE_CHARS_PER_INCH = 10
+
+
+def _wrapped(title: str, width_in: float) -> str:
+    """``title`` broken into lines that fit ``width_in`` inches, so that it stays inside the
+    figure (issue 27: titles were cut at both edges)."""
+    import textwrap
+
+    return textwrap.fill(title, width=int(_TITLE_CHARS_PER_INCH * width_in))
 
 
 def _hunting_text(summary: dict) -> str:
