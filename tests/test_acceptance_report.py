@@ -95,9 +95,13 @@ def test_the_report_page_shows_the_quasi_static_values_that_are_not_judged(tmp_p
     data["verdict"] = decide(data)
     write_acceptance(tmp_path / "acceptance.json", data)
     text = write_report(tmp_path)[0].read_text()
-    assert "informative: x_factor" in text and "0.157" in text
-    assert "run_status: state" in text and "window_m" in text and "5, 9" in text
-    assert "y_over_q" in text and "0.634" in text
+    assert "informative: x factor" in text and "0.157" in text
+    assert "informative: max moment" in text and "21.9 kN m" in text
+    assert "run status: state" in text and "window" in text and "5, 9 m" in text
+    assert "y over q" in text and "0.634" in text
+    # words and units, not raw JSON (issue 27): radius 150 m, twist 3.05 per mille, pass yes
+    assert "150 m" in text and "3.05 ‰" in text and "1.5 m/s" in text
+    assert ">yes<" in text and "True" not in text and "null" not in text
 
 
 def _figure_data(vehicle_name: str) -> dict:
