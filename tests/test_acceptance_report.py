@@ -199,3 +199,16 @@ def test_the_run_figures_titles_stay_inside_the_figure(title):
     assert summary["hunting"]["detected"]  # the long title: the verdict is in it
     for name, fig in run_figures(ts, summary, title=title).items():
         assert _texts_outside(fig) == [], name
+
+
+def test_a_quick_zone_study_says_it_is_a_trend():
+    """The quick programme's zone studies (their study pages and figures) carry the notice, as
+    acceptance.json, the zone figures and the report page do; the full programme's do not."""
+    from railexu.assessment.acceptance.programme import load_programme
+    from railexu.study.acceptance.runner import zone_study_name
+
+    for quick in (True, False):
+        prog = load_programme("coach", quick=quick)
+        name = zone_study_name(prog, prog.zone("straight"))
+        assert name.startswith("EN 14363 coach: straight")
+        assert ("quick programme: a trend, not an acceptance verdict" in name) is quick

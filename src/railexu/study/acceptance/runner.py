@@ -190,7 +190,7 @@ def _run_zone(
     sections = zone.sections()
     folder = out / ZONES_DIR / zone.name
     lead = start_lead_m(vehicle) if zone.kind == "curve" else 0.0
-    name = f"{prog.name}: {zone.name}"
+    name = zone_study_name(prog, zone)
     study_file = write_zone_files(
         folder,
         zone_track(zone, sections, lead),
@@ -213,6 +213,14 @@ def _run_zone(
         outcome["error"] = str(exc)
         say(f"zone {zone.name}: not evaluated: {exc}")
     return outcome
+
+
+def zone_study_name(prog, zone) -> str:
+    """The name of a zone's study (its study page's and figures' title): the programme and the
+    zone, and for the quick programme that it is a trend, not a verdict (issue 27: "saying so
+    on every output")."""
+    quick = " (quick programme: a trend, not an acceptance verdict)" if prog.quick else ""
+    return f"{prog.name}: {zone.name}{quick}"
 
 
 def _section_values(done, folder: Path, sections, vehicle) -> list:
