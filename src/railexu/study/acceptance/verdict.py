@@ -7,7 +7,8 @@ The verdict (railexu's rule, ``docs/acceptance.md``):
   decide it are listed);
 - ``incomplete``: nothing failed, but the verdict cannot be signed: the quick (reduced)
   programme was run, a zone could not be evaluated or had fewer sections than its minimum, or a
-  quasi-static test was not run;
+  quasi-static test was not run or its run stopped numerically (diverged, failed, interrupted)
+  before it measured a value (a derailment fails it);
 - ``pass``: every criterion of every zone and every quasi-static test within its limit.
 
 Criteria whose limit or statistics rest on a value railexu could not confirm in a public text
@@ -91,7 +92,11 @@ def decide(data: dict) -> dict[str, Any]:
         entry = data.get(test, {})
         status = entry.get("status")
         if status == "completed" and entry.get("pass") is False:
-            failed.append(_test_failure(test, entry))
+            stop = _numerical_stop(entry)
+            if stop:
+                missing.append(f"{test}: {stop}")
+            else:
+                failed.append(_test_failure(test, entry))
         elif status not in ("completed", "not_applicable"):
             missing.append(f"{test}: {status or 'not run'} ({entry.get('reason', '')})")
     if data["programme"]["quick"]:
@@ -115,6 +120,30 @@ TEST_QUANTITIES = (
     ("x_factor", "limit"),
     ("value", "limit"),
 )
+
+
+#: run states that stop a quasi-static test without a physical verdict: the integration
+#: failed or the run was stopped (a derailment is a physical failure and fails the test)
+NUMERICAL_STOPS = ("diverged", "failed", "interrupted", "terminated")
+
+
+def _numerical_stop(entry: dict) -> str:
+    """Why a failed quasi-static test measured nothing (its run stopped numerically before a
+    quantity exceeded its limit), or "" when it failed physically. railexu's rule: such a test
+    leaves the verdict incomplete, as one not run; it is no evidence that the vehicle fails."""
+    if any(
+        isinstance(entry.get(k), int | float) and isinstance(entry.get(lim), int | float)
+        and entry[k] > entry[lim]
+        for k, lim in TEST_QUANTITIES
+    ):  # fmt: skip
+        return ""
+    run = entry.get("run_status")
+    if not isinstance(run, dict) or run.get("state") not in NUMERICAL_STOPS:
+        return ""
+    where = run.get("distance_m")
+    at = f" at {where:.1f} m" if isinstance(where, int | float) else ""
+    return (f"its run {run['state']}{at} ({run.get('reason') or 'no reason given'}): no value, "
+            "not a failure of the vehicle")  # fmt: skip
 
 
 def _test_failure(test: str, entry: dict) -> str:
