@@ -84,3 +84,35 @@ def test_the_command_line_wants_units_and_refuses_before_running(tmp_path, capsy
                  "--admissible-speed", "160 N"]) == EXIT_INPUT  # fmt: skip
     assert "--admissible-speed" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_acceptance_json_records_what_the_admissible_values_changed(tmp_path, monkeypatch):
+    """``run_acceptance(admissible_...)`` runs the changed programme and writes the values and
+    the programme items they became into ``acceptance.json`` (``programme.admissible``); the
+    zones' runs are replaced by a stub here (what is checked is the programme they receive)."""
+    from railexu.study.acceptance import runner
+
+    seen = {}
+
+    def no_run(zone, prog, *args, **kwargs):
+        seen[zone.name] = zone
+        return {"study": {"cases": zone.n_sections}, "error": "not run in this test"}
+
+    monkeypatch.setattr(runner, "_run_zone", no_run)
+    (tmp_path / "acc").mkdir()  # the zones' studies would create it
+    result = runner.run_acceptance(
+        "manchester_coach_extended", tmp_path / "acc", quasi_static=False,
+        admissible_speed_m_per_s=140.0 / 3.6, admissible_cant_deficiency_m=0.13,
+        programme_overrides=("zones.curve_small_radius.evaluate_at.cant_deficiency=120 mm",),
+        progress=lambda line: None,
+    )  # fmt: skip
+    assert seen["straight"].speed_m_per_s == pytest.approx(1.1 * 140.0 / 3.6)
+    assert seen["curve_large_radius"].cant_deficiency_m[1] == pytest.approx(0.13)
+    assert seen["curve_small_radius"].evaluate_at[0] == pytest.approx(0.12)  # the user's wins
+    admissible = result.data["programme"]["admissible"]
+    assert admissible["speed_m_per_s"] == pytest.approx(140.0 / 3.6)
+    assert admissible["cant_deficiency_m"] == 0.13
+    assert "zones.straight.speed=" in admissible["overrides"][0]
+    assert result.verdict == "incomplete"  # no zone evaluated, no quasi-static test
+    written = (tmp_path / "acc" / "acceptance.json").read_text()
+    assert '"admissible"' in written
