@@ -188,12 +188,14 @@ def _texts_outside(fig) -> list[str]:
 @pytest.mark.parametrize(
     "title",
     ["EU07 at 30 m/s", "Manchester coach extended at 20.2462 m/s",
-     "Hbbins loaded at 36.6667 m/s"],
+     "Hbbins loaded at 36.6667 m/s",
+     "Hbbins wagon, loaded to 22.4 t per axle, with worn S1002 wheels at 36.6667 m/s"],
 )  # fmt: skip
 def test_the_run_figures_titles_stay_inside_the_figure(title):
     """A section's run figures (a shipped vehicle's name and the section's speed as the run
     writes them) keep every title inside the figure; the lateral displacement's title with the
-    hunting verdict ran over both edges for the coach (-14 to 1074 px of 1000) and is wrapped.
+    hunting verdict ran over both edges for the coach (-14 to 1074 px of 1000) and is wrapped;
+    a figure's title set in smaller type when a long vehicle name needs it (down to 8 pt).
     Synthetic series of tests/test_results.py (a 20 m hunting wave)."""
     import math
 
