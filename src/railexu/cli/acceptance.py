@@ -47,6 +47,18 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="change the programme, e.g. zones.straight.speed=110km/h",
     )
     p.add_argument(
+        "--admissible-speed",
+        metavar="SPEED",
+        help="the vehicle's admissible speed, e.g. 160km/h: the straight zones run at 1.1 times "
+        "it (EN 14363's maximum test speed)",
+    )
+    p.add_argument(
+        "--admissible-cant-deficiency",
+        metavar="CANT",
+        help="the vehicle's admissible cant deficiency, e.g. 130mm: the curve zones' sections "
+        "reach it and are evaluated at it",
+    )
+    p.add_argument(
         "--no-quasi-static",
         action="store_true",
         help="leave out the twist and yaw-resistance tests (the verdict is then incomplete)",
@@ -57,7 +69,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def command(args: argparse.Namespace) -> int:
     from railexu.study.acceptance import run_acceptance
+    from railexu.units import to_si
 
+    speed = cant = None
+    if args.admissible_speed is not None:
+        speed = _option_si("--admissible-speed", args.admissible_speed, "m/s", to_si)
+    if args.admissible_cant_deficiency is not None:
+        cant = _option_si("--admissible-cant-deficiency", args.admissible_cant_deficiency, "m",
+                          to_si)  # fmt: skip
     result = run_acceptance(
         args.vehicle,
         args.out,
@@ -68,5 +87,24 @@ def command(args: argparse.Namespace) -> int:
         vehicle_overrides=args.set,
         programme_overrides=args.set_programme,
         quasi_static=not args.no_quasi_static,
+        admissible_speed_m_per_s=speed,
+        admissible_cant_deficiency_m=cant,
     )
     return 0 if result.verdict == "pass" else EXIT_FAILED
+
+
+def _option_si(option: str, text: str, unit: str, to_si) -> float:
+    """``text`` of ``option`` in SI ``unit``; a value without its unit is refused (160 would
+    be read as m/s, not km/h)."""
+    from railexu.errors import InputError
+
+    try:
+        float(text)
+    except ValueError:
+        pass
+    else:
+        raise InputError(f"{option} {text}: give the unit, e.g. '160km/h' or '130mm'")
+    try:
+        return to_si(text, unit)
+    except InputError as exc:
+        raise InputError(f"{option}: {exc}") from None

@@ -12,6 +12,7 @@ figures read ``acceptance.json``'s mapping only (no study or simulation import).
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 from railexu.report.figures import new_figure, save_figure
@@ -27,6 +28,9 @@ REGRESSOR_AXES = {
     "curvature": ("curvature [1/km]", "radius_m", None),
 }
 COLUMNS = 3
+#: characters of the 10 pt title per inch of the figure's width (a wide character is about
+#: 0.6 of the font size, 6 pt, so 12 per inch; 10 leaves a margin)
+TITLE_CHARS_PER_INCH = 10
 
 
 def draw_acceptance_figures(data: dict, folder: Path) -> list[Path]:
@@ -48,8 +52,11 @@ def _zone_figure(name: str, zone: dict, criteria: dict, data: dict):
     fig = new_figure(figsize=(4.2 * COLUMNS, 3.2 * rows + 0.8), layout="constrained")
     quick = " (quick programme: a trend, not an acceptance verdict)" if (
         data.get("programme", {}).get("quick")) else ""  # fmt: skip
-    fig.suptitle(f"{data.get('vehicle', {}).get('name', '')}: zone {name}, "
-                 f"{zone.get('method', '').replace('_', '-')}{quick}", fontsize=10)  # fmt: skip
+    title = (f"{data.get('vehicle', {}).get('name', '')}: zone {name}, "
+             f"{zone.get('method', '').replace('_', '-')}{quick}")  # fmt: skip
+    # wrapped to the figure's width, so that a long vehicle name stays inside the figure
+    fig.suptitle(textwrap.fill(title, width=int(TITLE_CHARS_PER_INCH * 4.2 * COLUMNS)),
+                 fontsize=10)  # fmt: skip
     axes = fig.subplots(rows, COLUMNS, squeeze=False).ravel()
     for ax, (crit, c) in zip(axes, criteria.items(), strict=False):
         _panel(ax, crit, c, zone)

@@ -70,8 +70,7 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
     body.append("<h2>Quasi-static tests</h2>")
     for key, title in (("twist_test", "Safety against derailment on twisted track"),
                        ("yaw_resistance_test", "Bogie yaw resistance")):  # fmt: skip
-        entry = data.get(key, {})
-        rows = [(k, _text(v)) for k, v in entry.items() if not isinstance(v, dict | list)]
+        rows = _test_rows(data.get(key, {}))
         body.append(f"<h3>{escape(title)}</h3>" + table(rows, ("quantity", "value")))
     for rel in data.get("figures", []):
         path = Path(folder) / rel
@@ -80,6 +79,47 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
             body.append(f'<figure><img alt="{escape(rel)}" src="data:image/png;base64,{b64}">'
                         f"<figcaption>{escape(rel)}</figcaption></figure>")  # fmt: skip
     return page(f"Acceptance {vehicle.get('name', '')}", body)
+
+
+#: a quasi-static test's key suffix -> (unit shown, factor from SI), the longest suffix first
+_TEST_UNITS = (
+    ("_rad_per_s", "rad/s", 1.0), ("_per_mille", "‰", 1.0), ("_m_per_s", "m/s", 1.0),
+    ("_N_m", "kN m", 1.0e-3), ("_rad", "rad", 1.0), ("_N", "kN", 1.0e-3), ("_m", "m", 1.0),
+    ("_s", "s", 1.0),
+)  # fmt: skip
+
+
+def _test_rows(entry: dict, prefix: str = "") -> list[tuple[str, str]]:
+    """A quasi-static test's rows, each a quantity in words with its value and unit
+    (``radius 150 m``, ``pass yes``; not raw JSON): its plain values, its lists of numbers
+    joined, and one level of nested mappings (the run's status; a yaw-resistance test outside
+    the wagon category keeps its X factor under ``informative``) with the mapping's name before
+    each key, so that a reader sees the value that was not judged."""
+    rows = []
+    for k, v in entry.items():
+        if isinstance(v, dict):
+            if not prefix:
+                rows += _test_rows(v, prefix=f"{k.replace('_', ' ')}: ")
+            continue
+        if isinstance(v, list) and not all(isinstance(x, int | float | str) for x in v):
+            continue
+        name, unit, factor = k, "", 1.0
+        for suffix, shown, scale in _TEST_UNITS:
+            if k.endswith(suffix):
+                name, unit, factor = k[: -len(suffix)], shown, scale
+                break
+        values = v if isinstance(v, list) else [v]
+        text = ", ".join(_test_value(x, factor) for x in values)
+        rows.append((f"{prefix}{name.replace('_', ' ')}", f"{text} {unit}".strip()))
+    return rows
+
+
+def _test_value(value, factor: float) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, int | float):
+        return _text(float(value) * factor)
+    return _text(value)
 
 
 def _zone_html(name: str, zone: dict, escape, table, raw) -> str:

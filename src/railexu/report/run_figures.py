@@ -220,7 +220,8 @@ def _lateral_displacement(page: _Page) -> Figure:
     ts, summary, x, indices, labels, prefix, xlabel, rows, criteria = page
     # run figures use fixed margins: the constrained layout engine costs ~40 % of the drawing
     fig = new_figure(figsize=(10, 5))
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.92)
+    # top margin for a title of two lines (a long vehicle name and the hunting verdict)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.11, top=0.87)
     ax = fig.subplots()
     for i in indices:
         ax.plot(*_envelope(x, ts[f"ws{i}_lateral_m"] * 1e3), lw=1.2, label=labels[i])
@@ -228,8 +229,8 @@ def _lateral_displacement(page: _Page) -> Figure:
         ax.plot(*_envelope(x, ts[f"{body}_lateral_m"] * 1e3), "--", lw=1.0,
                 label=body.replace("_", " "))  # fmt: skip
     _shade_outside_window(ax, summary, x)
-    _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]",
-                 f"{prefix}lateral displacement{_hunting_text(summary)}")  # fmt: skip
+    title = _wrapped(f"{prefix}lateral displacement{_hunting_text(summary)}", 10 * 0.9)
+    _finish_axes(ax, xlabel, "lateral displacement (positive left) [mm]", title)
     return fig
 
 
@@ -252,7 +253,7 @@ def _lateral_force(page: _Page) -> Figure:
         ax.axhline(0.0, color="0.5", lw=0.6)
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "lateral force Y [kN]", f"{labels[i]}: lateral force on wheels")
-    fig.suptitle(f"{prefix}lateral wheel-rail force (on the wheel, positive left)")
+    _suptitle(fig, f"{prefix}lateral wheel-rail force (on the wheel, positive left)")
     _deduplicate_legends(fig)
     return fig
 
@@ -286,7 +287,7 @@ def _y_over_q(page: _Page) -> Figure:
         ax.axhline(0.0, color="0.5", lw=0.6)
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "Y/Q (flanging positive) [-]", f"{labels[i]}: Y/Q")
-    fig.suptitle(f"{prefix}derailment quotient Y/Q against the EN 14363 limit")
+    _suptitle(fig, f"{prefix}derailment quotient Y/Q against the EN 14363 limit")
     _deduplicate_legends(fig)
     return fig
 
@@ -314,7 +315,7 @@ def _wheel_load(page: _Page) -> Figure:
             _shade_outside_window(ax, summary, x)
         _finish_axes(ax_q, xlabel, "wheel load Q [kN]", f"{labels[i]}: wheel load")
         _finish_axes(ax_d, xlabel, "unloading dQ/Q0 [-]", f"{labels[i]}: wheel unloading")
-    fig.suptitle(f"{prefix}vertical wheel load Q and unloading (Q0 - Q)/Q0")
+    _suptitle(fig, f"{prefix}vertical wheel load Q and unloading (Q0 - Q)/Q0")
     _deduplicate_legends(fig)
     return fig
 
@@ -339,7 +340,7 @@ def _sum_y(page: _Page) -> Figure:
                                    (-shift * 1e-3, f"-{shift * 1e-3:.1f} kN", "--")])  # fmt: skip
         _shade_outside_window(ax, summary, x)
         _finish_axes(ax, xlabel, "sum Y [kN]", f"{labels[i]}: track-shifting force")
-    fig.suptitle(f"{prefix}track-shifting force sum Y = Y_left + Y_right (EN 14363)")
+    _suptitle(fig, f"{prefix}track-shifting force sum Y = Y_left + Y_right (EN 14363)")
     _deduplicate_legends(fig)
     return fig
 
@@ -359,6 +360,34 @@ RUN_FIGURES: dict[str, Callable[[_Page], Figure]] = {
     "sum_y": _sum_y,
     "accelerations": _accelerations,
 }
+
+
+#: characters of a 12 pt title per inch (a wide character is about 0.6 of the font size)
+_TITLE_CHARS_PER_INCH = 10
+
+
+def _wrapped(title: str, width_in: float) -> str:
+    """``title`` broken into lines that fit ``width_in`` inches, so that it stays inside the
+    figure (issue 27: titles were cut at both edges)."""
+    import textwrap
+
+    return textwrap.fill(title, width=int(_TITLE_CHARS_PER_INCH * width_in))
+
+
+#: the largest and smallest size of a figure's title [pt] (12: matplotlib's "large")
+_SUPTITLE_PT = (12.0, 8.0)
+
+
+def _suptitle(fig: Figure, title: str) -> None:
+    """The figure's title in one line that fits its width: smaller type for a long title (a
+    long vehicle name), down to 8 pt, and only then broken into lines (the stacked figures'
+    fixed top margin holds one line of 12 pt)."""
+    width_in = float(fig.get_figwidth())
+    largest, smallest = _SUPTITLE_PT
+    # characters that fit at size ``pt``: _TITLE_CHARS_PER_INCH is for 12 pt
+    fits = _TITLE_CHARS_PER_INCH * width_in * largest
+    size = min(largest, max(smallest, fits / max(len(title), 1)))
+    fig.suptitle(_wrapped(title, width_in * largest / size), fontsize=size)
 
 
 def _hunting_text(summary: dict) -> str:
@@ -399,6 +428,6 @@ def _acceleration_figure(ts, points, summary, prefix, xlabel) -> Figure:
         _finish_axes(
             ax, xlabel, "acceleration [m/s^2]", f"{name}: {', '.join(parts)}" if parts else name
         )
-    fig.suptitle(f"{prefix}accelerations and ride comfort (EN 12299 N_MV, Sperling Wz)")
+    _suptitle(fig, f"{prefix}accelerations and ride comfort (EN 12299 N_MV, Sperling Wz)")
     _deduplicate_legends(fig)
     return fig

@@ -135,6 +135,7 @@ class TwistTestResult:
             "test": "safety against derailment on twisted track",
             "y_over_q": self.y_over_q,
             "y_over_q_limit": self.y_over_q_limit,
+            "limit": self.y_over_q_limit,  # the test's deciding limit (issue 27's key)
             "wheel": self.wheel,
             "unloading": self.unloading,
             "unloading_limit": self.unloading_limit,

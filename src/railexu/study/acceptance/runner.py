@@ -73,6 +73,8 @@ def run_acceptance(
     quasi_static: bool = True,
     progress: Callable[[str], None] | None = None,
     run_settings: dict[str, str] | None = None,
+    admissible_speed_m_per_s: float | None = None,
+    admissible_cant_deficiency_m: float | None = None,
 ) -> AcceptanceResult:
     """Take ``vehicle`` through an EN 14363 running-behaviour programme.
 
@@ -91,6 +93,11 @@ def run_acceptance(
         progress: called with one line of text per step (default: print to standard error).
         run_settings: keys of the run file's ``run:`` section for every section's run (e.g.
             ``{"time_step": "1 ms"}``: the step-size study of ``docs/acceptance.md``).
+        admissible_speed_m_per_s, admissible_cant_deficiency_m: the vehicle's admissible speed
+            [m/s] and cant deficiency [m]: the straight zones run at 1.1 times the speed, the
+            curve zones' sections reach the cant deficiency and are evaluated at it
+            (:func:`railexu.assessment.acceptance.admissible.admissible_overrides`; applied
+            before ``programme_overrides``, which win).
 
     Raises:
         InputError: bad vehicle, programme or folder (naming the file, line and key).
@@ -107,6 +114,15 @@ def run_acceptance(
     if programme is None:
         programme = default_programme(vehicle_obj.category)
     prog = load_programme(programme, quick=quick, overrides=tuple(programme_overrides))
+    admissible = {"speed_m_per_s": admissible_speed_m_per_s,
+                  "cant_deficiency_m": admissible_cant_deficiency_m}  # fmt: skip
+    if any(v is not None for v in admissible.values()):
+        from railexu.assessment.acceptance.admissible import admissible_overrides
+
+        admissible["overrides"] = admissible_overrides(prog, admissible_speed_m_per_s,
+                                                       admissible_cant_deficiency_m)  # fmt: skip
+        overrides_all = (*admissible["overrides"], *programme_overrides)
+        prog = load_programme(programme, quick=quick, overrides=overrides_all)
     if prog.category != vehicle_obj.category:
         raise InputError(
             f"programme {prog.name!r} is for category {prog.category!r}, the vehicle "
@@ -136,6 +152,9 @@ def run_acceptance(
         prog, vehicle_file, _sha256(vehicle_file), overrides, vehicle_obj, zone_results,
         section_values, zone_errors, studies, tests,
     )  # fmt: skip
+    if "overrides" in admissible:  # what the admissible values changed in the programme
+        data["programme"]["admissible"] = {**admissible,
+                                           "overrides": list(admissible["overrides"])}  # fmt: skip
     result = AcceptanceResult(out, data, zone_results, section_values)
     _draw_figures(result, say)
     write_acceptance(out / ACCEPTANCE_JSON, data)
@@ -171,7 +190,7 @@ def _run_zone(
     sections = zone.sections()
     folder = out / ZONES_DIR / zone.name
     lead = start_lead_m(vehicle) if zone.kind == "curve" else 0.0
-    name = f"{prog.name}: {zone.name}"
+    name = zone_study_name(prog, zone)
     study_file = write_zone_files(
         folder,
         zone_track(zone, sections, lead),
@@ -194,6 +213,14 @@ def _run_zone(
         outcome["error"] = str(exc)
         say(f"zone {zone.name}: not evaluated: {exc}")
     return outcome
+
+
+def zone_study_name(prog, zone) -> str:
+    """The name of a zone's study (its study page's and figures' title): the programme and the
+    zone, and for the quick programme that it is a trend, not a verdict (issue 27: "saying so
+    on every output")."""
+    quick = " (quick programme: a trend, not an acceptance verdict)" if prog.quick else ""
+    return f"{prog.name}: {zone.name}{quick}"
 
 
 def _section_values(done, folder: Path, sections, vehicle) -> list:

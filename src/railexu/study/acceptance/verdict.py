@@ -7,7 +7,8 @@ The verdict (railexu's rule, ``docs/acceptance.md``):
   decide it are listed);
 - ``incomplete``: nothing failed, but the verdict cannot be signed: the quick (reduced)
   programme was run, a zone could not be evaluated or had fewer sections than its minimum, or a
-  quasi-static test was not run;
+  quasi-static test was not run or its run stopped numerically (diverged, failed, interrupted)
+  before it measured a value (a derailment fails it);
 - ``pass``: every criterion of every zone and every quasi-static test within its limit.
 
 Criteria whose limit or statistics rest on a value railexu could not confirm in a public text
@@ -91,10 +92,11 @@ def decide(data: dict) -> dict[str, Any]:
         entry = data.get(test, {})
         status = entry.get("status")
         if status == "completed" and entry.get("pass") is False:
-            value = next((entry[k] for k in ("value", "x_factor", "y_over_q", "unloading")
-                          if entry.get(k) is not None), None)  # fmt: skip
-            failed.append(f"{test}: {_num(value)} > "
-                          f"{_num(entry.get('limit'))} ({entry.get('clause', '')})")  # fmt: skip
+            stop = _numerical_stop(entry)
+            if stop:
+                missing.append(f"{test}: {stop}")
+            else:
+                failed.append(_test_failure(test, entry))
         elif status not in ("completed", "not_applicable"):
             missing.append(f"{test}: {status or 'not run'} ({entry.get('reason', '')})")
     if data["programme"]["quick"]:
@@ -107,6 +109,56 @@ def decide(data: dict) -> dict[str, Any]:
         result, reason = "pass", "every criterion within its limit"
     return {"result": result, "reason": reason, "failed": failed, "missing": missing,
             "assumptions": assumptions}  # fmt: skip
+
+
+#: The quantities of a quasi-static test's mapping with the key of their limit: the twist
+#: test's Y/Q and wheel unloading (``assessment/acceptance/twist.py``), the yaw-resistance
+#: test's X factor (``assessment/acceptance/yaw_resistance.py``), or a plain value.
+TEST_QUANTITIES = (
+    ("y_over_q", "y_over_q_limit"),
+    ("unloading", "unloading_limit"),
+    ("x_factor", "limit"),
+    ("value", "limit"),
+)
+
+
+#: run states that stop a quasi-static test without a physical verdict: the integration
+#: failed or the run was stopped (a derailment is a physical failure and fails the test)
+NUMERICAL_STOPS = ("diverged", "failed", "interrupted", "terminated")
+
+
+def _numerical_stop(entry: dict) -> str:
+    """Why a failed quasi-static test measured nothing (its run stopped numerically before a
+    quantity exceeded its limit), or "" when it failed physically. railexu's rule: such a test
+    leaves the verdict incomplete, as one not run; it is no evidence that the vehicle fails."""
+    if any(
+        isinstance(entry.get(k), int | float) and isinstance(entry.get(lim), int | float)
+        and entry[k] > entry[lim]
+        for k, lim in TEST_QUANTITIES
+    ):  # fmt: skip
+        return ""
+    run = entry.get("run_status")
+    if not isinstance(run, dict) or run.get("state") not in NUMERICAL_STOPS:
+        return ""
+    where = run.get("distance_m")
+    at = f" at {where:.1f} m" if isinstance(where, int | float) else ""
+    return (f"its run {run['state']}{at} ({run.get('reason') or 'no reason given'}): no value, "
+            "not a failure of the vehicle")  # fmt: skip
+
+
+def _test_failure(test: str, entry: dict) -> str:
+    """What failed in a quasi-static test: each quantity above its own limit, or, when none
+    is (a run that did not reach its end), the test's run status."""
+    exceeded = []
+    for key, limit_key in TEST_QUANTITIES:
+        value, limit = entry.get(key), entry.get(limit_key)
+        if isinstance(value, int | float) and isinstance(limit, int | float) and value > limit:
+            exceeded.append(f"{key} {_num(value)} > {_num(limit)}")
+    if not exceeded:
+        run = entry.get("run_status") or {}
+        state = run.get("state") if isinstance(run, dict) else run
+        exceeded.append(f"did not pass (run: {state or 'unknown'})")
+    return f"{test}: {'; '.join(exceeded)} ({entry.get('clause', '')})"
 
 
 def write_acceptance(path: Path, data: dict) -> None:
