@@ -3,8 +3,9 @@ vehicle's admissible speed and cant deficiency from the command line").
 
 EN 14363:2016 runs the straight-track zone at the maximum test speed, 1.1 times the vehicle's
 admissible speed (``MAX_TEST_SPEED_FACTOR``, the factor the shipped programmes' comments
-state), and the curve zones at cant deficiencies up to the admissible one, evaluated at it (the
-two-dimensional evaluation's limit conditions). :func:`admissible_overrides` turns the two
+state), no curve section above that speed (the curve zones' ``speed_max``), and the curve zones
+at cant deficiencies up to the admissible one, evaluated at it (the two-dimensional
+evaluation's limit conditions). :func:`admissible_overrides` turns the two
 values into the programme's own ``--set`` items, so that the programme file stays the one
 record of what was run and an explicit ``--set-programme`` of the user, applied after them,
 still wins.
@@ -34,7 +35,8 @@ def admissible_overrides(
     """The ``dotted.key=value`` items of ``programme`` for an admissible speed [m/s] and an
     admissible cant deficiency [m] (either may be None: that one is left as the file has it).
 
-    Every straight zone's ``speed`` becomes ``1.1 speed_m_per_s``; every curve zone spread over
+    Every straight zone's ``speed`` and every curve zone's ``speed_max`` (the maximum test speed)
+    become ``1.1 speed_m_per_s``; every curve zone spread over
     cant deficiency gets ``cant_deficiency_max`` and ``evaluate_at.cant_deficiency`` equal to
     ``cant_deficiency_m`` (a curve zone given by its speed is left as it is).
 
@@ -48,8 +50,8 @@ def admissible_overrides(
         _check("admissible speed", speed_m_per_s, "m/s",
                MAX_SPEED_M_PER_S / MAX_TEST_SPEED_FACTOR)  # fmt: skip
         test_speed = MAX_TEST_SPEED_FACTOR * speed_m_per_s
-        items += [f"zones.{z.name}.speed={test_speed!r} m/s"
-                  for z in programme.zones if z.kind == "straight"]  # fmt: skip
+        items += [f"zones.{z.name}.{'speed' if z.kind == 'straight' else 'speed_max'}="
+                  f"{test_speed!r} m/s" for z in programme.zones]  # fmt: skip
     if cant_deficiency_m is not None:
         _check("admissible cant deficiency", cant_deficiency_m, "m", MAX_CANT_DEFICIENCY_M)
         for z in programme.zones:

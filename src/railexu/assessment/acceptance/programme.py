@@ -13,8 +13,13 @@ radius of curve section ``i`` of ``n`` steps evenly from ``radius_min`` to ``rad
 cant deficiency (or the track quality) of section ``i`` is taken at the fraction
 ``u_i = frac(0.5 + i phi)`` (``phi`` the golden ratio's conjugate 0.618...) of its range, so that
 radius and cant deficiency are not collinear and the regression over both has a spread. The
-speed follows from ``V = sqrt(g R (I + D) / b)`` (EN 13803: ``b`` = 1.5 m). Curves alternate
-left (even ``i``) and right. The random seed of section ``i`` is ``seed + i``.
+speed follows from ``V = sqrt(g R (I + D) / b)`` (EN 13803: ``b`` = 1.5 m), capped at the
+zone's ``speed_max`` (EN 14363:2016's maximum test speed, 1.1 times the admissible speed): a
+capped section runs at ``speed_max`` with the cant deficiency ``I = b V^2 / (g R) - D`` that
+speed gives, recorded as the section's. Curves alternate left (even ``i``) and right. The random
+seed of section ``i`` is ``seed + i``. Each curve section starts with an entry transition whose
+length follows from the zone's cant-gradient and cant-rate limits (:func:`transition_length_m`),
+then ``run_in`` of full curve before the evaluation window.
 
 Track quality: EN 14363:2016 asks for test sections of stated track quality (QN levels of
 EN 13848-6: standard deviations of the longitudinal level and the alignment in the wavelength
@@ -43,6 +48,8 @@ FORMAT_VERSION = 1
 GRAVITY_M_PER_S2 = 9.81
 #: EN 13803: cant base, the distance of the rail centres over which cant is measured (m).
 CANT_BASE_M = 1.5
+#: Shortest entry transition of a curve section [m] (railexu's floor for a curve without cant).
+TRANSITION_MIN_M = 10.0
 #: The golden ratio's conjugate: the low-discrepancy step of the spread of conditions.
 PHI = (math.sqrt(5.0) - 1.0) / 2.0
 METHODS = ("one_dimensional", "two_dimensional")
@@ -102,10 +109,15 @@ ZONE = Schema(
               minimum=2, maximum=500),
         Field("section_length", "length of each section's evaluation window", unit="m",
               positive=True, maximum=5000.0),
-        Field("run_in", "track run before each section's window (settling)", unit="m",
+        Field("run_in", "track run before each section's window to settle (curves: full "
+              "curve after the entry transition)", unit="m",
               default=50.0, minimum=0.0, maximum=2000.0),
         Field("speed", "test speed (straight track; curves: instead of cant deficiency)",
               unit="m/s", default=OPTIONAL, positive=True, maximum=150.0),
+        Field("speed_max", "curves: the maximum test speed (EN 14363: 1.1 x the admissible "
+              "speed); a section whose speed from its cant deficiency would exceed it runs at "
+              "it, with the cant deficiency it gives", unit="m/s", default=OPTIONAL,
+              positive=True, maximum=150.0),
         Field("radius_min", "smallest radius of the zone's curves", unit="m", default=OPTIONAL,
               minimum=150.0, maximum=100_000.0),
         Field("radius_max", "largest radius of the zone's curves", unit="m", default=OPTIONAL,
@@ -115,6 +127,15 @@ ZONE = Schema(
               default=OPTIONAL, minimum=-0.2, maximum=0.3),
         Field("cant_deficiency_max", "highest cant deficiency of the sections", unit="m",
               default=OPTIONAL, minimum=-0.2, maximum=0.3),
+        Field("transition_cant_gradient_max", "curves: largest cant gradient of the entry "
+              "transition (EN 13803 recommended limit 2.25 mm/m; railexu assumption)", unit="1",
+              default=2.25e-3, positive=True, maximum=0.02),
+        Field("transition_cant_rate_max", "curves: largest rate of change of cant dD/dt at "
+              "the section's speed (EN 13803; not applied if absent)", unit="m/s",
+              default=OPTIONAL, positive=True, maximum=0.5),
+        Field("transition_cant_deficiency_rate_max", "curves: largest rate of change of cant "
+              "deficiency dI/dt at the section's speed (EN 13803; not applied if absent)",
+              unit="m/s", default=OPTIONAL, positive=True, maximum=0.5),
         Field("method", "statistical evaluation", "text", choices=METHODS),
         Field("regressors", "two-dimensional: the section conditions regressed on", "text_list",
               default=("cant_deficiency",), choices=REGRESSORS),
@@ -193,6 +214,10 @@ class SectionSpec:
     the evaluation window is ``[evaluate_from_m, evaluate_to_m]`` of the distance travelled (the
     run starts ``run_in_m`` before it); ``irregularities`` is the track file's
     ``irregularities`` mapping (SI numbers); ``quality`` the targets and the scale used.
+    In curves the run-in is the entry transition (``transition_m``, :func:`transition_length_m`)
+    followed by the zone's ``run_in`` of full curve; ``speed_capped`` says that the section runs
+    at the zone's maximum test speed with the cant deficiency that speed gives (lower than its
+    share of the zone's range).
     """
 
     zone: str
@@ -209,6 +234,8 @@ class SectionSpec:
     seed: int
     quality: dict
     irregularities: dict
+    transition_m: float = 0.0
+    speed_capped: bool = False
 
     @property
     def evaluate_from_m(self) -> float:
@@ -237,6 +264,7 @@ class Zone:
     min_sections: int
     track_quality: TrackQuality
     speed_m_per_s: float | None = None
+    speed_max_m_per_s: float | None = None
     radius_m: tuple[float, float] | None = None
     cant_m: float = 0.0
     cant_deficiency_m: tuple[float, float] | None = None
@@ -250,6 +278,9 @@ class Zone:
     seed: int = 1
     reduced: bool = False
     description: str = ""
+    transition_cant_gradient_max: float = 2.25e-3
+    transition_cant_rate_max_m_per_s: float | None = None
+    transition_cant_deficiency_rate_max_m_per_s: float | None = None
 
     def sections(self) -> list[SectionSpec]:
         """Each section's conditions (see the module doc for the spread)."""
@@ -259,7 +290,7 @@ class Zone:
         u = math.fmod(0.5 + i * PHI, 1.0)
         w = math.fmod(0.25 + i * PHI * PHI, 1.0)  # another order for the track quality
         radius = direction = None
-        cd, speed = 0.0, self.speed_m_per_s
+        cd, speed, capped, transition = 0.0, self.speed_m_per_s, False, 0.0
         if self.kind == "curve":
             assert self.radius_m is not None
             lo, hi = self.radius_m
@@ -269,17 +300,20 @@ class Zone:
                 cd = self.cant_deficiency_m[0] + u * (self.cant_deficiency_m[1]
                                                       - self.cant_deficiency_m[0])  # fmt: skip
                 speed = speed_for(radius, self.cant_m, cd)
-            else:
-                assert speed is not None
+            assert speed is not None
+            if self.speed_max_m_per_s is not None and speed > self.speed_max_m_per_s:
+                speed, capped = self.speed_max_m_per_s, True
+            if capped or self.cant_deficiency_m is None:
                 cd = cant_deficiency_for(radius, self.cant_m, speed)
+            transition = transition_length_m(self, speed, cd)
         assert speed is not None
         quality, irregularities = _quality(self.track_quality, w, self.seed + i)
         return SectionSpec(
             zone=self.name, index=i, name=f"{self.name}_{i + 1:03d}", kind=self.kind,
             radius_m=radius, direction=direction, cant_m=self.cant_m if radius else 0.0,
             speed_m_per_s=speed, cant_deficiency_m=cd, length_m=self.section_length_m,
-            run_in_m=self.run_in_m, seed=self.seed + i, quality=quality,
-            irregularities=irregularities,
+            run_in_m=self.run_in_m + transition, seed=self.seed + i, quality=quality,
+            irregularities=irregularities, transition_m=transition, speed_capped=capped,
         )  # fmt: skip
 
 
@@ -313,6 +347,20 @@ def speed_for(radius_m: float, cant_m: float, cant_deficiency_m: float) -> float
 def cant_deficiency_for(radius_m: float, cant_m: float, speed_m_per_s: float) -> float:
     """``I = b V^2 / (g R) - D`` (m), EN 13803."""
     return CANT_BASE_M * speed_m_per_s**2 / (GRAVITY_M_PER_S2 * radius_m) - cant_m
+
+
+def transition_length_m(zone: Zone, speed_m_per_s: float, cant_deficiency_m: float) -> float:
+    """Length of a curve section's entry transition [m] (railexu's rule, after EN 13803's
+    limits on transitions): the shortest clothoid with a linear cant ramp that keeps the cant
+    gradient ``D / L``, and, where the zone gives them, the rates ``V D / L`` and ``V |I| / L``
+    within the zone's limits, rounded up to 0.1 m; at least :data:`TRANSITION_MIN_M`."""
+    cant, v = zone.cant_m, speed_m_per_s
+    lengths = [TRANSITION_MIN_M, cant / zone.transition_cant_gradient_max]
+    if zone.transition_cant_rate_max_m_per_s is not None:
+        lengths.append(v * cant / zone.transition_cant_rate_max_m_per_s)
+    if zone.transition_cant_deficiency_rate_max_m_per_s is not None:
+        lengths.append(v * abs(cant_deficiency_m) / zone.transition_cant_deficiency_rate_max_m_per_s)
+    return math.ceil(max(lengths) * 10.0 - 1e-9) / 10.0
 
 
 def load_programme(
@@ -366,7 +414,7 @@ def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
         name=name, kind=kind, n_sections=v["n_sections"], description=v["description"],
         section_length_m=v["section_length"], run_in_m=v["run_in"], method=method,
         min_sections=v["min_sections"], track_quality=_track_quality(sec),
-        speed_m_per_s=v["speed"], cant_m=v["cant"], regressors=regressors, seed=v["seed"],
+        speed_m_per_s=v["speed"], speed_max_m_per_s=v["speed_max"], cant_m=v["cant"], regressors=regressors, seed=v["seed"],
         radius_m=_range(sec, v, "radius", kind == "curve"),
         cant_deficiency_m=_range(sec, v, "cant_deficiency", False),
         evaluate_at=_evaluate_at(sec, v, method, regressors),
@@ -374,6 +422,9 @@ def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
         prediction_quantile=stats["prediction_quantile"],
         statistics_assumption=stats["assumption"],
         y_qst_limit_radius=stats["y_qst_limit_radius"],
+        transition_cant_gradient_max=v["transition_cant_gradient_max"],
+        transition_cant_rate_max_m_per_s=v["transition_cant_rate_max"],
+        transition_cant_deficiency_rate_max_m_per_s=v["transition_cant_deficiency_rate_max"],
     )  # fmt: skip
     _check_conditions(sec, zone)
     if quick:
@@ -414,6 +465,9 @@ def _check_conditions(sec: Section, zone: Zone) -> None:
     if zone.kind == "straight":
         if zone.speed_m_per_s is None:
             sec.fail("missing key 'speed': a straight zone runs at a speed")
+        if zone.speed_max_m_per_s is not None:
+            sec.fail("a straight zone runs at its 'speed' (the maximum test speed): "
+                     "'speed_max' is for curve zones", key="speed_max")  # fmt: skip
         return
     if (zone.speed_m_per_s is None) == (zone.cant_deficiency_m is None):
         sec.fail("give either 'speed' or 'cant_deficiency_min'/'cant_deficiency_max' for a "

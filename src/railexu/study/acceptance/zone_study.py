@@ -10,9 +10,10 @@ inspected, re-run or resumed like any study (``railexu study DIR/zones/NAME/stud
 The section's track (railexu's choice, stated in ``docs/acceptance.md``):
 
 - straight zones: straight track with the section's irregularities;
-- curve zones: a transition (clothoid with a linear cant ramp) over the first half of the
-  run-in, then one curve of the section's radius, cant and direction, long enough for the run
-  and the vehicle; the rest of the run-in lets the vehicle settle in the full curve before the
+- curve zones: the section's entry transition (clothoid with a linear cant ramp, its length
+  ``SectionSpec.transition_m`` from the zone's cant-gradient and cant-rate limits, varied per
+  case), then one curve of the section's radius, cant and direction, long enough for the run
+  and the vehicle; the zone's ``run_in`` of full curve lets the vehicle settle before the
   evaluation window. (A vehicle started inside the curve starts away from its curving
   equilibrium: its wheel loads start transferred the wrong way, and in R 150 m it derails.);
 - the rail profile, inclination and gauge of the programme's base track (UIC60 1:40, 1435 mm by
@@ -33,9 +34,6 @@ if TYPE_CHECKING:
 TRACK_MARGIN_M = 150.0
 #: Distance run beyond the evaluation window's end, so that the window lies inside the record [m].
 RUN_MARGIN_M = 1.0
-#: Share of the run-in taken by the transition into a curve section (the rest lets the vehicle
-#: settle in the full curve before the evaluation window).
-TRANSITION_SHARE = 0.5
 #: The rails and gauge of every section's track (a programme does not change them).
 BASE_RAILS = {"rail_profile": "UIC60", "inclination": "1:40", "gauge": "1.435 m"}
 
@@ -60,13 +58,17 @@ def curve_key(lead_m: float = 0.0) -> str:
     return f"track.geometry.sections.{2 if lead_m > 0.0 else 1}"
 
 
+def transition_key(lead_m: float = 0.0) -> str:
+    """The study key of the entry transition of :func:`zone_track`."""
+    return f"track.geometry.sections.{1 if lead_m > 0.0 else 0}"
+
+
 def zone_track(zone: Zone, sections: list[SectionSpec], lead_m: float = 0.0) -> dict[str, Any]:
     """The base track of the zone's study (the first section's conditions; the cases vary
     them); with ``lead_m`` (:func:`start_lead_m`) a straight of that length before a curve
     section's transition."""
     first = sections[0]
     length = max(section_distance_m(s) for s in sections) + TRACK_MARGIN_M
-    transition = TRANSITION_SHARE * min(s.run_in_m for s in sections)
     if zone.kind == "curve":
         lead = [{"type": "straight", "length": f"{lead_m:.3f} m"}] if lead_m > 0.0 else []
         geometry: dict[str, Any] = {
@@ -74,7 +76,7 @@ def zone_track(zone: Zone, sections: list[SectionSpec], lead_m: float = 0.0) -> 
             "cant_base": "1.5 m",
             "sections": [
                 *lead,
-                {"type": "transition", "length": f"{transition:.3f} m"},
+                {"type": "transition", "length": f"{first.transition_m:.3f} m"},
                 {
                     "type": "curve",
                     "length": f"{length:.3f} m",
@@ -113,12 +115,16 @@ def zone_study(
         key = curve_key(lead_m)
         parameters[f"{key}.radius"] = [f"{s.radius_m:.6g} m" for s in sections]
         parameters[f"{key}.direction"] = [s.direction for s in sections]
+        parameters[f"{transition_key(lead_m)}.length"] = [
+            f"{s.transition_m:.3f} m" for s in sections
+        ]
     irr = "track.irregularities"
     parameters[f"{irr}.seed"] = [int(s.irregularities["seed"]) for s in sections]
     parameters[f"{irr}.amplitude_scale"] = [
         float(s.irregularities.get("amplitude_scale", 1.0)) for s in sections
     ]
     parameters["run.speed"] = [f"{s.speed_m_per_s:.6g} m/s" for s in sections]
+    parameters["run.distance"] = [f"{section_distance_m(s):.3f} m" for s in sections]
     distance = max(section_distance_m(s) for s in sections)
     base: dict[str, Any] = {
         "vehicle": str(vehicle_file),
