@@ -358,8 +358,9 @@ def transition_length_m(zone: Zone, speed_m_per_s: float, cant_deficiency_m: flo
     lengths = [TRANSITION_MIN_M, cant / zone.transition_cant_gradient_max]
     if zone.transition_cant_rate_max_m_per_s is not None:
         lengths.append(v * cant / zone.transition_cant_rate_max_m_per_s)
-    if zone.transition_cant_deficiency_rate_max_m_per_s is not None:
-        lengths.append(v * abs(cant_deficiency_m) / zone.transition_cant_deficiency_rate_max_m_per_s)
+    rate_i = zone.transition_cant_deficiency_rate_max_m_per_s
+    if rate_i is not None:
+        lengths.append(v * abs(cant_deficiency_m) / rate_i)
     return math.ceil(max(lengths) * 10.0 - 1e-9) / 10.0
 
 
@@ -414,7 +415,8 @@ def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
         name=name, kind=kind, n_sections=v["n_sections"], description=v["description"],
         section_length_m=v["section_length"], run_in_m=v["run_in"], method=method,
         min_sections=v["min_sections"], track_quality=_track_quality(sec),
-        speed_m_per_s=v["speed"], speed_max_m_per_s=v["speed_max"], cant_m=v["cant"], regressors=regressors, seed=v["seed"],
+        speed_m_per_s=v["speed"], speed_max_m_per_s=v["speed_max"], cant_m=v["cant"],
+        regressors=regressors, seed=v["seed"],
         radius_m=_range(sec, v, "radius", kind == "curve"),
         cant_deficiency_m=_range(sec, v, "cant_deficiency", False),
         evaluate_at=_evaluate_at(sec, v, method, regressors),
