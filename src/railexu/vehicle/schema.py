@@ -371,6 +371,14 @@ VEHICLE = Schema(
         Field("description", "one paragraph", "text", default=""),
         Field("category", "EN 14363 category: the track-shifting limit's alpha depends on it",
               "text", choices=CATEGORIES),
+        Field("admissible_speed", "the vehicle's admissible speed V_adm: `railexu acceptance` "
+              "runs its programme up to 1.1 V_adm (EN 14363:2016's maximum test speed) unless "
+              "the command line gives it", unit="m/s", default=OPTIONAL, positive=True,
+              maximum=150.0 / 1.1),
+        Field("admissible_cant_deficiency", "the vehicle's admissible cant deficiency I_adm: "
+              "`railexu acceptance` runs its curve sections up to it and evaluates them at it "
+              "unless the command line gives it", unit="m", default=OPTIONAL, positive=True,
+              maximum=0.3),
         Field("sources", "where the data come from", "text_list", default=()),
         Field("speed_body", "body held at the forward speed (default: the first body, or the "
               "first wheelset)", "text", default=OPTIONAL),

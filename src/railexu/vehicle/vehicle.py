@@ -93,7 +93,9 @@ class Vehicle:
 
     Derived quantities: :attr:`total_mass_kg`, :attr:`primary_yaw_stiffness_N_m_per_rad`,
     :attr:`wheelbases_m`; a changed copy: :meth:`replace`. Static axle loads need the statics:
-    :func:`railexu.model.statics.static_axle_loads_N`.
+    :func:`railexu.model.statics.static_axle_loads_N`. ``admissible_speed_m_per_s`` [m/s] and
+    ``admissible_cant_deficiency_m`` [m] are the file's (None when it does not give them): the
+    conditions ``railexu acceptance`` takes when its command line does not give them.
     """
 
     name: str
@@ -109,6 +111,8 @@ class Vehicle:
     category: str = "locomotive"  # a file must name it (VEHICLE schema); Python callers may not
     measurement_points: tuple[MeasurementPoint, ...] = ()
     source: str = ""
+    admissible_speed_m_per_s: float | None = None
+    admissible_cant_deficiency_m: float | None = None
     raw: dict = field(default_factory=dict, repr=False, compare=False)
     lines: dict = field(default_factory=dict, repr=False, compare=False)
     base_dir: Path | None = field(default=None, repr=False, compare=False)
@@ -251,6 +255,8 @@ def vehicle_from_dict(
         gravity_m_per_s2=VEHICLE.read(top, "gravity"),
         sources=VEHICLE.read(top, "sources"),
         category=VEHICLE.read(top, "category"),
+        admissible_speed_m_per_s=VEHICLE.read(top, "admissible_speed"),
+        admissible_cant_deficiency_m=VEHICLE.read(top, "admissible_cant_deficiency"),
         measurement_points=_measurement_points(top, names, bodies, wheelsets),
         source=source,
         raw=data,

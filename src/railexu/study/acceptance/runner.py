@@ -94,10 +94,13 @@ def run_acceptance(
         run_settings: keys of the run file's ``run:`` section for every section's run (e.g.
             ``{"time_step": "1 ms"}``: the step-size study of ``docs/acceptance.md``).
         admissible_speed_m_per_s, admissible_cant_deficiency_m: the vehicle's admissible speed
-            [m/s] and cant deficiency [m]: the straight zones run at 1.1 times the speed, the
+            [m/s] and cant deficiency [m]; each one not given is the vehicle file's
+            (``admissible_speed``, ``admissible_cant_deficiency``) if it has one: the straight
+            zones run at 1.1 times the speed and no curve section faster (``speed_max``), the
             curve zones' sections reach the cant deficiency and are evaluated at it
             (:func:`railexu.assessment.acceptance.admissible.admissible_overrides`; applied
-            before ``programme_overrides``, which win).
+            before ``programme_overrides``, which win). ``acceptance.json`` records each value
+            and where it came from (``programme.admissible.source``).
 
     Raises:
         InputError: bad vehicle, programme or folder (naming the file, line and key).
@@ -114,13 +117,13 @@ def run_acceptance(
     if programme is None:
         programme = default_programme(vehicle_obj.category)
     prog = load_programme(programme, quick=quick, overrides=tuple(programme_overrides))
-    admissible = {"speed_m_per_s": admissible_speed_m_per_s,
-                  "cant_deficiency_m": admissible_cant_deficiency_m}  # fmt: skip
-    if any(v is not None for v in admissible.values()):
+    admissible = admissible_values(vehicle_obj, admissible_speed_m_per_s,
+                                   admissible_cant_deficiency_m)  # fmt: skip
+    speed, cant = admissible["speed_m_per_s"], admissible["cant_deficiency_m"]
+    if speed is not None or cant is not None:
         from railexu.assessment.acceptance.admissible import admissible_overrides
 
-        admissible["overrides"] = admissible_overrides(prog, admissible_speed_m_per_s,
-                                                       admissible_cant_deficiency_m)  # fmt: skip
+        admissible["overrides"] = admissible_overrides(prog, speed, cant)
         overrides_all = (*admissible["overrides"], *programme_overrides)
         prog = load_programme(programme, quick=quick, overrides=overrides_all)
     if prog.category != vehicle_obj.category:
@@ -152,14 +155,35 @@ def run_acceptance(
         prog, vehicle_file, _sha256(vehicle_file), overrides, vehicle_obj, zone_results,
         section_values, zone_errors, studies, tests,
     )  # fmt: skip
-    if "overrides" in admissible:  # what the admissible values changed in the programme
-        data["programme"]["admissible"] = {**admissible,
-                                           "overrides": list(admissible["overrides"])}  # fmt: skip
+    # the admissible values, where each came from and what they changed in the programme
+    changed = list(admissible.get("overrides", ()))
+    data["programme"]["admissible"] = {**admissible, "overrides": changed}
     result = AcceptanceResult(out, data, zone_results, section_values)
     _draw_figures(result, say)
     write_acceptance(out / ACCEPTANCE_JSON, data)
     say(f"verdict: {data['verdict']['result']} ({data['verdict']['reason']})")
     return result
+
+
+def admissible_values(
+    vehicle, speed_m_per_s: float | None, cant_deficiency_m: float | None
+) -> dict[str, Any]:
+    """The admissible speed [m/s] and cant deficiency [m] an acceptance runs with: each given
+    value (the command line's, or the Python argument's) wins over the vehicle file's; ``source``
+    says per value where it came from (``command line``, ``vehicle file <path>`` or ``none``:
+    the programme's own conditions)."""
+    out: dict[str, Any] = {"source": {}}
+    for key, given, own in (
+        ("speed_m_per_s", speed_m_per_s, vehicle.admissible_speed_m_per_s),
+        ("cant_deficiency_m", cant_deficiency_m, vehicle.admissible_cant_deficiency_m),
+    ):
+        if given is not None:
+            out[key], out["source"][key] = given, "command line"
+        elif own is not None:
+            out[key], out["source"][key] = own, f"vehicle file {vehicle.source}"
+        else:
+            out[key], out["source"][key] = None, "none (the programme's conditions)"
+    return out
 
 
 def default_programme(category: str) -> str:
