@@ -56,14 +56,14 @@ def _two_steps(zone_name: str, index: int, overrides: tuple[str, ...], quick: bo
 @pytest.fixture(scope="module")
 def two_steps():
     zone = "curve_large_radius"
-    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=100 m")
+    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=50 m")
     return _two_steps(zone, 0, overrides)  # R 600 m, 105 mm cant deficiency, 28.4 m/s
 
 
 @pytest.fixture(scope="module")
 def small_radius_two_steps():
     zone = "curve_very_small_radius"
-    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=100 m")
+    overrides = (f"zones.{zone}.section_length=30 m", f"zones.{zone}.run_in=50 m")
     # the quick programme's second section: R 300 m, 71 mm cant deficiency, 20.8 m/s, where
     # the outer leading wheel runs on its flange (docs/acceptance.md, "Step-size study")
     return _two_steps(zone, 1, overrides, quick=True)
