@@ -106,7 +106,8 @@ class SectionValues:
         conditions: the section's conditions as run: ``cant_deficiency_m`` (the median of the
             recorded ``cant_deficiency_m`` column in the window if recorded, else the
             programme's), ``radius_m``, ``speed_m_per_s`` (median of ``speed_m_per_s`` if
-            recorded).
+            recorded), ``speed_capped`` (the section runs at the zone's maximum test speed)
+            and ``transition_m`` (its entry transition, m).
         notes: quantities not evaluated, and why.
     """
 
@@ -419,6 +420,8 @@ def _conditions(ts, section, window: tuple[float, float]) -> dict[str, Any]:
         "cant_m": section.cant_m,
         "cant_deficiency_m": section.cant_deficiency_m,
         "speed_m_per_s": section.speed_m_per_s,
+        "speed_capped": section.speed_capped,  # at the zone's maximum test speed
+        "transition_m": section.transition_m,  # the entry transition before the run-in
         "source": "programme",
     }
     if "cant_deficiency_m" in ts and np.any(inside):
