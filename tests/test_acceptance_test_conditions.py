@@ -153,13 +153,13 @@ def _stub_acceptance(monkeypatch, tmp_path, vehicle, **kwargs):
     out.mkdir()
     result = runner.run_acceptance(vehicle, out, quasi_static=False, progress=lambda line: None,
                                    **kwargs)  # fmt: skip
-    return seen, result.data["programme"]["admissible"]
+    return seen, result.data["programme"]["admissible"], out
 
 
 def test_the_vehicle_files_admissible_speed_is_used(tmp_path, monkeypatch):
     """The loaded Hbbins' file gives 100 km/h: its programme runs straight track at 110 km/h
     and no curve section above it; acceptance.json says the value came from the file."""
-    seen, admissible = _stub_acceptance(monkeypatch, tmp_path, "hbbins_loaded")
+    seen, admissible, out = _stub_acceptance(monkeypatch, tmp_path, "hbbins_loaded")
     assert seen["straight"].speed_m_per_s == pytest.approx(110.0 / 3.6)
     assert seen["curve_large_radius"].speed_max_m_per_s == pytest.approx(110.0 / 3.6)
     assert admissible["speed_m_per_s"] == pytest.approx(100.0 / 3.6)
@@ -169,10 +169,17 @@ def test_the_vehicle_files_admissible_speed_is_used(tmp_path, monkeypatch):
     assert admissible["source"]["cant_deficiency_m"].startswith("none")
     # the programme's own 130 mm stays
     assert seen["curve_large_radius"].cant_deficiency_m[1] == pytest.approx(0.130)
+    # the report page's inputs say so, in km/h and with the source
+    from railexu.cli import main
+
+    assert main(["report", str(out)]) == 0
+    html = (out / "report.html").read_text()
+    assert "admissible speed" in html and "100 km/h (vehicle file " in html
+    assert "admissible cant deficiency" in html and "- (none (the programme" in html
 
 
 def test_the_command_line_wins_over_the_vehicle_file(tmp_path, monkeypatch):
-    seen, admissible = _stub_acceptance(
+    seen, admissible, _ = _stub_acceptance(
         monkeypatch, tmp_path, "hbbins_loaded", admissible_speed_m_per_s=90.0 / 3.6,
         admissible_cant_deficiency_m=0.110,
     )  # fmt: skip

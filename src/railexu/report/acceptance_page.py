@@ -63,6 +63,7 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
         ("vehicle", vehicle.get("file", "")), ("SHA-256", vehicle.get("sha256", "")),
         ("vehicle changes", ", ".join(vehicle.get("overrides", [])) or "none"),
         ("programme", f"{programme.get('name', '')} ({programme.get('file', '')})"),
+        *_admissible_rows(programme.get("admissible") or {}),
         ("railexu", data.get("railexu_version", "")),
     ]))  # fmt: skip
     for name, zone in data["zones"].items():
@@ -79,6 +80,22 @@ def acceptance_report_html(folder: Path, page, escape, table, raw) -> str:
             body.append(f'<figure><img alt="{escape(rel)}" src="data:image/png;base64,{b64}">'
                         f"<figcaption>{escape(rel)}</figcaption></figure>")  # fmt: skip
     return page(f"Acceptance {vehicle.get('name', '')}", body)
+
+
+def _admissible_rows(admissible: dict) -> list[tuple[str, str]]:
+    """The admissible speed (km/h) and cant deficiency (mm) the programme ran with, each with
+    where it came from (the command line, the vehicle file, or none: the programme's own)."""
+    rows = []
+    source = admissible.get("source", {})
+    for key, label, unit, factor in (("speed_m_per_s", "admissible speed", "km/h", 3.6),
+                                     ("cant_deficiency_m", "admissible cant deficiency", "mm",
+                                      1.0e3)):  # fmt: skip
+        value = admissible.get(key)
+        if value is None and key not in source:
+            continue
+        text = "-" if value is None else f"{_text(float(value) * factor)} {unit}"
+        rows.append((label, f"{text} ({source.get(key, 'command line')})"))
+    return rows
 
 
 #: a quasi-static test's key suffix -> (unit shown, factor from SI), the longest suffix first
