@@ -50,13 +50,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--admissible-speed",
         metavar="SPEED",
         help="the vehicle's admissible speed, e.g. 160km/h: the straight zones run at 1.1 times "
-        "it (EN 14363's maximum test speed)",
+        "it (EN 14363's maximum test speed) and no curve section faster (default: the vehicle "
+        "file's admissible_speed, if any)",
     )
     p.add_argument(
         "--admissible-cant-deficiency",
         metavar="CANT",
         help="the vehicle's admissible cant deficiency, e.g. 130mm: the curve zones' sections "
-        "reach it and are evaluated at it",
+        "reach it and are evaluated at it (default: the vehicle file's "
+        "admissible_cant_deficiency, if any)",
     )
     p.add_argument(
         "--no-quasi-static",
