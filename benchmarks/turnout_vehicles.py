@@ -93,9 +93,44 @@ def panel_quantities(ts, n_ws: int, side: str, lo: float, hi: float) -> dict:
     return out
 
 
-def one(vehicle_name: str, route: str, sets: list[str], settings_kw: dict, save: Path | None):
+class TableCache:
+    """The kernel's station tables of the last (track, wheel) built, for the next run on the
+    same track with the same wheel (the tables depend on the rails and the first wheelset's
+    wheel only): ``railexu.model.sc_tables.sc_kernel_fields`` wrapped where the model calls
+    it; each run gets its own blend caches (``sc_cache``, ``sc_key``, ``sc_t``)."""
+
+    def __init__(self) -> None:
+        import railexu.model.assembly as assembly
+
+        self.key: tuple | None = None
+        self.fields: dict | None = None
+        self.hits = 0
+        self._build = assembly.sc_kernel_fields
+        assembly.sc_kernel_fields = self
+
+    def __call__(self, rails, geometry, width, n_wheelsets: int = 1, **kw) -> dict:
+        if self.fields is None or self.key is None or self.built_for != self.key:
+            self.fields = self._build(rails, geometry, width, n_wheelsets=1, **kw)
+            self.built_for = self.key
+        else:
+            self.hits += 1
+        f = dict(self.fields)
+        if f:
+            cache = f["sc_cache"]
+            f["sc_cache"] = np.zeros((n_wheelsets, *cache.shape[1:]))
+            f["sc_key"] = np.full((n_wheelsets, 2), -1, dtype=np.int64)
+            f["sc_t"] = np.full((n_wheelsets, 2), np.nan)
+        return f
+
+
+def one(vehicle_name: str, route: str, sets: list[str], settings_kw: dict, save: Path | None,
+        cache: TableCache | None = None):  # fmt: skip
     """One run: its table line (a dict)."""
     vehicle = load_vehicle(ROOT / "vehicles" / f"{vehicle_name}.yaml")
+    if cache is not None:
+        w = vehicle.wheelsets[0]
+        cache.key = (route, tuple(sets), w.wheel_profile, w.nominal_radius_m,
+                     w.flange_back_distance_m, vehicle.contact.curvature_smoothing_m)  # fmt: skip
     file = ROOT / "tracks" / f"turnout_uk_r245_{route}.yaml"
     x = [w.position_x_m for w in vehicle.wheelsets]
     wheelbase = max(x) - min(x)
@@ -172,9 +207,18 @@ def main() -> None:
           "10 m/s")  # fmt: skip
     print(f"{'vehicle':26s} {'track':19s} {'state':10s} {'blade':>7s} {'stock':>7s} "
           f"{'nose':>7s} {'wing':>7s} {'check':>7s} {'integr.':>8s}  (max Q kN; s)")  # fmt: skip
-    for name in names:
-        for route in a.routes.split(","):
-            print(text_line(one(name, route, sets, kw, a.save)), flush=True)
+    done = set()
+    if a.save is not None and (a.save / "table.jsonl").exists():
+        for text in (a.save / "table.jsonl").read_text().splitlines():
+            line = json.loads(text)
+            done.add((line["vehicle"], line["route"]))
+            print(text_line(line), " (saved)", flush=True)
+    cache = TableCache()
+    for route in a.routes.split(","):  # the tables shared by the vehicles with one wheel
+        for name in sorted(names, key=lambda n: load_vehicle(
+                ROOT / "vehicles" / f"{n}.yaml").wheelsets[0].nominal_radius_m):  # fmt: skip
+            if (name, route) not in done:
+                print(text_line(one(name, route, sets, kw, a.save, cache)), flush=True)
 
 
 if __name__ == "__main__":
