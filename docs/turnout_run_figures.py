@@ -1,0 +1,159 @@
+"""Figures of docs/switches-and-crossings.md, "Runs": a vehicle through the whole turnout.
+
+Usage: ``python docs/turnout_run_figures.py RUN_FOLDER IMAGE_FOLDER [--vehicle eu07]``, where
+RUN_FOLDER holds what ``python benchmarks/turnout_vehicles.py --save RUN_FOLDER`` wrote (each
+run's per-rail columns ``<vehicle>_<route>.npz`` and ``table.jsonl``). Writes:
+
+- ``turnout_crossing_runs.png``: the vehicle's leading wheelset on the crossing side of each
+  route and direction: Q per rail (nose, wing rail) and their sum, the contact position per rail
+  (the transfer from wing rail to nose), Tgamma per rail, against the wheelset's distance from
+  the crossing slices' ``s = 0`` in the direction of travel;
+- ``turnout_switch_runs.png``: the same wheelset on the switch side: Q and |Y| per rail (blade,
+  stock rail) against the distance from the toe's first slice met;
+- ``turnout_impacts.png``: per vehicle and route, the largest Q on the nose and on the wing rail
+  (the vertical impact at the crossing) and on the blade and stock rail, against the static
+  wheel load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+DPI = 90
+ROUTES = ("through_facing", "through_trailing", "diverging_facing", "diverging_trailing")
+
+
+def _lines(folder: Path) -> dict[tuple[str, str], dict]:
+    out = {}
+    for text in (folder / "table.jsonl").read_text().splitlines():
+        line = json.loads(text)
+        out[(line["vehicle"], line["route"])] = line
+    return out
+
+
+def _panel_trace(data, line: dict, panel: str, ws: int = 1):
+    """``(x [m] from the panel's first slice met, side, {name: array})`` of one wheelset."""
+    p = line["panels"][panel]
+    side, (lo, hi) = p["side"], p["range_m"]
+    s = data[f"ws{ws}_s_m"]
+    win = (s >= lo - 0.5) & (s <= hi + 0.5)
+    cols = {k[len(f"ws{ws}_{side}_"):]: data[k][win] for k in data.files
+            if k.startswith(f"ws{ws}_{side}_")}  # fmt: skip
+    return s[win] - lo, side, cols
+
+
+def crossing_figure(folder: Path, vehicle: str, path: Path) -> None:
+    """Q, contact position and Tgamma per rail through the crossing, the four routes."""
+    lines = _lines(folder)
+    fig = Figure(figsize=(11.0, 7.5))
+    axes = fig.subplots(3, 4, sharex="col")
+    for j, route in enumerate(ROUTES):
+        line = lines.get((vehicle, route))
+        file = folder / f"{vehicle}_{route}.npz"
+        if line is None or not file.exists() or "crossing" not in line["panels"]:
+            continue
+        x, side, c = _panel_trace(np.load(file), line, "crossing")
+        for r, name, color in ((1, "nose", "C0"), (2, "wing rail", "C1")):
+            q = c[f"rail{r}_Q_N"]
+            axes[0, j].plot(x, q / 1e3, lw=0.8, color=color, label=name)
+            y = np.where(q > 0.0, c[f"rail{r}_contact_y_m"] * 1e3, np.nan)
+            axes[1, j].plot(x, y, ".", ms=1.5, color=color, label=name)
+            axes[2, j].plot(x, c[f"rail{r}_Tgamma_N"], lw=0.8, color=color, label=name)
+        axes[0, j].plot(x, c["Q_N"] / 1e3, lw=0.5, color="k", alpha=0.5, label="sum")
+        axes[0, j].set_title(f"{vehicle}, {route.replace('_', ' ')}\n(ws1, {side} wheel)",
+                             fontsize=9)  # fmt: skip
+        axes[2, j].set_xlabel("distance from the crossing's first slice met [m]", fontsize=8)
+    axes[0, 0].set_ylabel("Q per rail [kN]")
+    axes[1, 0].set_ylabel("contact y [mm]\n(rail axes, field +)")
+    axes[2, 0].set_ylabel("Tgamma [N]")
+    axes[0, 0].legend(fontsize=7)
+    for ax in axes.flat:
+        ax.grid(alpha=0.3)
+        ax.tick_params(labelsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+
+
+def switch_figure(folder: Path, vehicle: str, path: Path) -> None:
+    """Q and |Y| per rail through the switch panel, the four routes."""
+    lines = _lines(folder)
+    fig = Figure(figsize=(11.0, 5.2))
+    axes = fig.subplots(2, 4, sharex="col")
+    for j, route in enumerate(ROUTES):
+        line = lines.get((vehicle, route))
+        file = folder / f"{vehicle}_{route}.npz"
+        if line is None or not file.exists() or "switch" not in line["panels"]:
+            continue
+        x, side, c = _panel_trace(np.load(file), line, "switch")
+        for r, name, color in ((1, "blade", "C0"), (2, "stock rail", "C1")):
+            axes[0, j].plot(x, c[f"rail{r}_Q_N"] / 1e3, lw=0.8, color=color, label=name)
+            axes[1, j].plot(x, np.abs(c[f"rail{r}_Y_N"]) / 1e3, lw=0.8, color=color, label=name)
+        axes[0, j].set_title(f"{vehicle}, {route.replace('_', ' ')}\n(ws1, {side} wheel)",
+                             fontsize=9)  # fmt: skip
+        axes[1, j].set_xlabel("distance from the panel's first slice met [m]", fontsize=8)
+    axes[0, 0].set_ylabel("Q per rail [kN]")
+    axes[1, 0].set_ylabel("|Y| per rail [kN]")
+    axes[0, 0].legend(fontsize=7)
+    for ax in axes.flat:
+        ax.grid(alpha=0.3)
+        ax.tick_params(labelsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+
+
+def _static_wheel_load(file: Path) -> float | None:
+    """The mean wheel load at the run's start (on straight track: the static one) [N]."""
+    if not file.exists():
+        return None
+    d = np.load(file)
+    q = [d[k][0] for k in d.files if k.endswith(("_left_Q_N", "_right_Q_N")) and "rail" not in k]
+    return float(np.mean(q))
+
+
+def impacts_figure(folder: Path, path: Path) -> None:
+    """The largest Q per rail and panel, per vehicle and route, over the static wheel load."""
+    lines = _lines(folder)
+    vehicles = sorted({v for v, _ in lines})
+    fig = Figure(figsize=(11.0, 4.2))
+    axes = fig.subplots(1, 4, sharey=True)
+    for ax, (panel, r, name) in zip(axes, (("switch", 0, "blade"), ("switch", 1, "stock rail"),
+                                           ("crossing", 0, "nose"), ("crossing", 1, "wing rail")),
+                                    strict=True):  # fmt: skip
+        for k, route in enumerate(ROUTES):
+            vals = []
+            for v in vehicles:
+                line = lines.get((v, route))
+                q0 = _static_wheel_load(folder / f"{v}_{route}.npz")
+                if line is None or panel not in line["panels"] or not q0:
+                    vals.append(np.nan)
+                    continue
+                vals.append(line["panels"][panel]["Q_max_N"][r] / q0)
+            ax.bar(np.arange(len(vehicles)) + 0.2 * (k - 1.5), vals, width=0.2,
+                   label=route.replace("_", " "))  # fmt: skip
+        ax.set_xticks(np.arange(len(vehicles)), vehicles, rotation=60, fontsize=7)
+        ax.set_title(f"largest Q on the {name}", fontsize=9)
+        ax.grid(alpha=0.3, axis="y")
+    axes[0].set_ylabel("Q_max / static wheel load Q0")
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("runs", type=Path)
+    ap.add_argument("images", type=Path)
+    ap.add_argument("--vehicle", default="eu07")
+    a = ap.parse_args()
+    crossing_figure(a.runs, a.vehicle, a.images / "turnout_crossing_runs.png")
+    switch_figure(a.runs, a.vehicle, a.images / "turnout_switch_runs.png")
+    impacts_figure(a.runs, a.images / "turnout_impacts.png")
+
+
+if __name__ == "__main__":
+    main()
