@@ -144,12 +144,85 @@ def impacts_figure(folder: Path, path: Path) -> None:
     fig.savefig(path, dpi=DPI)
 
 
+#: The crossing slices' first and last s [m] (tracks/uk_crossing/uk_crossing_full.yaml).
+CROSSING_S_M = (-0.995, 2.258)
+
+
+def crossing_windows(file: Path, line: dict) -> list[float]:
+    """The largest vertical force of the crossing-side wheel [N] (both rails, every wheelset) in
+    three windows of the slices' ``s``: below 0 (the wing rail's rise, its field side lifted
+    1.6-3.4 mm), 0 to 1 m (the transfer to the nose and its impact), beyond 1 m (the wing
+    rail's end and the nose's end, where its raised field side falls back to the plain rail)."""
+    cr = line["panels"]["crossing"]
+    lo, hi = cr["range_m"]
+    facing = line["route"].endswith("facing")
+    s0 = lo - CROSSING_S_M[0] if facing else hi + CROSSING_S_M[0]
+    d = np.load(file)
+    out = [0.0, 0.0, 0.0]
+    i = 1
+    while f"ws{i}_s_m" in d.files:
+        s = d[f"ws{i}_s_m"]
+        s_sl = s - s0 if facing else s0 - s
+        inside = (s >= lo) & (s <= hi)
+        q = d[f"ws{i}_{cr['side']}_Q_N"]
+        for k, w in enumerate((s_sl < 0.0, (s_sl >= 0.0) & (s_sl < 1.0), s_sl >= 1.0)):
+            if np.any(w & inside):
+                out[k] = max(out[k], float(q[w & inside].max()))
+        i += 1
+    return out
+
+
+def markdown_table(folder: Path) -> str:
+    """The runs table of docs/switches-and-crossings.md from ``table.jsonl`` and the runs'
+    columns: per run the state, the static wheel load, the largest Q on blade and stock rail and
+    the largest |Y| on the blade [kN] (every wheelset), the crossing-side wheel's largest Q in
+    the windows of :func:`crossing_windows` [kN], the leading wheelset's transfer to the nose
+    (facing) or from it (trailing) in the slices' s [mm], the largest Tgamma on rails 1 and 2 of
+    the crossing [N], the largest Q on the check rail [kN] and the integration time [s]."""
+    head = ("| vehicle | route | state | Q0 [kN] | blade Q / abs Y | stock rail Q | crossing Q: "
+            "s < 0 / 0-1 m / > 1 m | ws1 transfer at s [mm] | Tgamma rail 1 / 2 [N] | "
+            "check rail Q | integration [s] |\n" + "|---" * 11 + "|")  # fmt: skip
+    rows = [head]
+    lines = _lines(folder)
+    order = sorted(lines.items(), key=lambda kv: (kv[0][0], ROUTES.index(kv[0][1])))
+    for (v, route), line in order:
+        p = line["panels"]
+        file = folder / f"{v}_{route}.npz"
+        q0 = _static_wheel_load(file)
+        sw, cr, ch = p.get("switch", {}), p.get("crossing", {}), p.get("check", {})
+        transfer = "-"
+        if cr and cr["transfer_at_m"] and cr["transfer_at_m"][0] is not None:
+            lo, hi = cr["range_m"]
+            facing = route.endswith("facing")
+            s0 = lo - CROSSING_S_M[0] if facing else hi + CROSSING_S_M[0]
+            t = cr["transfer_at_m"][0]
+            transfer = f"{(t - s0 if facing else s0 - t) * 1e3:.0f}"
+        windows = " / ".join(f"{q / 1e3:.0f}" for q in crossing_windows(file, line)) if cr else "-"
+
+        def kn(d, key, r):
+            return f"{d[key][r] / 1e3:.0f}" if d else "-"
+
+        cells = [
+            v, route.replace("_", " "), line["state"], f"{(q0 or float('nan')) / 1e3:.0f}",
+            f"{kn(sw, 'Q_max_N', 0)} / {kn(sw, 'Y_absmax_N', 0)}", kn(sw, "Q_max_N", 1),
+            windows, transfer,
+            f"{cr['Tgamma_max_N'][0]:.0f} / {cr['Tgamma_max_N'][1]:.0f}" if cr else "-",
+            kn(ch, "Q_max_N", 0), f"{line['timings_s']['integration_s']:.0f}",
+        ]  # fmt: skip
+        rows.append("| " + " | ".join(cells) + " |")
+    return "\n".join(rows)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", type=Path)
     ap.add_argument("images", type=Path)
     ap.add_argument("--vehicle", default="eu07")
+    ap.add_argument("--table", action="store_true", help="print the markdown runs table only")
     a = ap.parse_args()
+    if a.table:
+        print(markdown_table(a.runs))
+        return
     crossing_figure(a.runs, a.vehicle, a.images / "turnout_crossing_runs.png")
     switch_figure(a.runs, a.vehicle, a.images / "turnout_switch_runs.png")
     impacts_figure(a.runs, a.images / "turnout_impacts.png")
