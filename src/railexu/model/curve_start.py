@@ -38,6 +38,8 @@ from railexu.vehicle.parts import (
     UICLink,
 )
 
+#: Offsets [m] and yaws [rad] below this are round-off (a body on straight track): 0.
+ROUND_OFF = 1.0e-12
 #: ``pose(x) -> (origin, rotation)``: the local track frame at distance ``x`` in the vehicle
 #: frame at the start (origin [m], 3 x 3 rotation).
 Pose = Callable[[float], tuple[np.ndarray, np.ndarray]]
@@ -109,6 +111,9 @@ def chord_placements(
             origin, rot = pose(x_c)
             local = np.array([rot.T @ (p - origin) for p in points])
             dy, dpsi = _line_fit(local[:, 0], local[:, 1])
+            # on straight track the chord is the centre line: exactly the nominal placement
+            dy = 0.0 if abs(dy) < ROUND_OFF else dy
+            dpsi = 0.0 if abs(dpsi) < ROUND_OFF else dpsi
             out[name] = (dy, dpsi)
             turn = rot @ rz(dpsi)
             placed[name] = (x_c, origin + rot @ np.array([0.0, dy, 0.0]), turn)
