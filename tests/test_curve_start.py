@@ -3,7 +3,7 @@
 
 The loaded Hbbins (10 m wheelbase) started inside the turnout's R 245 m circle used to stand
 with its car body on the centre line under its centre, 51 mm off the chord of its wheelsets: its
-links and axle-guard stops pushed both wheelsets sideways (92 kN), one wheel of each carried
+links and axle-guard stops pushed each wheelset sideways (364 kN), one wheel of each carried
 40 kN of 110 kN at t = 0 and the wagon derailed in its first metre (the diverging route,
 trailing, started inside the circle).
 """
@@ -85,7 +85,7 @@ def test_the_loaded_hbbins_started_inside_the_turnout_circle_starts_at_its_stati
     plain rail: the turnout's geometry alone), 10 m/s, 6 m. At t = 0 each wheel carries the
     straight-track static load Q0 = 22.4 t g / 2 = 109.9 kN within 0.5 % (before: 180 and
     40 kN) and the lateral wheel forces are those of a centred wheelset's spin creep (< 3 kN;
-    before: 90 kN after 5 ms): the car body's centrifugal force m V^2 / R = 17.1 kN reaches the
+    before: 92 kN within 6 ms): the car body's centrifugal force m V^2 / R = 17.1 kN reaches the
     wheelsets through the links as the body moves, not as a deflection imposed at the start.
     The run completes and no wheel falls below 70 % of Q0 over the 6 m: the centrifugal
     force acts on the body as a step at the start, and a step's response reaches at most twice

@@ -7,7 +7,7 @@ it: its suspension then carries no lateral deflection from the curve's geometry.
 on the track's centre line under its own centre, it is off that chord by the versine
 ``a^2 / (2 R)`` of its supports' half distance ``a`` (51 mm for the Hbbins' 10 m wheelbase in
 R 245 m): its lateral suspension starts deflected by that much, and the loaded Hbbins' links
-and axle-guard stops pushed both wheelsets sideways with 92 kN at t = 0, unloaded one wheel of
+and axle-guard stops pushed each wheelset sideways with 364 kN at t = 0, unloaded one wheel of
 each to a third of its static load and derailed the wagon in its first metre.
 
 The rule (railexu's): each body, in the order of its distance from the wheelsets in the
