@@ -42,6 +42,7 @@ from railexu.contact.placement import WheelsetGeometry, symmetric_wheelset
 from railexu.contact.placement import wheelset_geometry as placed_wheelset
 from railexu.contact.quasistatic import free_rolling_spin_rate, press_wheelset
 from railexu.errors import InputError
+from railexu.model.curve_start import Support, carries_statically, chord_placements, rz
 from railexu.model.forces import (
     BS_NREAL,
     FR_SIZE,
@@ -439,11 +440,18 @@ class VehicleModel:
         origin = frame.T @ np.array([float(x1 - x0), float(y1 - y0), 0.0])
         return origin, frame.T @ rotation(x, TAB_CANT)
 
-    def _placed(self, x: float, local: np.ndarray, rotation: np.ndarray):
+    def _placed(
+        self,
+        x: float,
+        local: np.ndarray,
+        rotation: np.ndarray,
+        chord: tuple[float, float] = (0.0, 0.0),
+    ):
         """Nominal centre (straight track: ``(x, local y, local z)``) and, on a curved track,
         the initial displacement and rotation that put a body with its centre at ``local``
-        (lateral and vertical, in the local track frame at ``x``) and the reference rotation
-        ``rotation`` onto the track: ``(centre, displacement | None, rotation | None)``.
+        (lateral and vertical, in the local track frame at ``x``; moved laterally by
+        ``chord[0]`` and yawed by ``chord[1]`` in it: the chord placement) and the reference
+        rotation ``rotation`` onto the track: ``(centre, displacement | None, rotation | None)``.
 
         The nominal centre stays the reference position, so that the suspension's unstressed
         lengths are those of straight track; the curve's placement is the initial state."""
@@ -451,6 +459,9 @@ class VehicleModel:
         if not self.curved:
             return centre, None, None
         origin, turn = self._track_pose(x)
+        local = local + np.array([0.0, chord[0], 0.0])
+        if chord[1] != 0.0:
+            turn = turn @ rz(chord[1])
         placed = np.array([self.frame_start_m, 0.0, 0.0]) + origin + turn @ local
         return centre, placed - centre, rotation.T @ turn @ rotation
 
@@ -481,13 +492,28 @@ class VehicleModel:
 
     def _add_bodies(self) -> None:
         """Car bodies and bogie frames at their nominal positions (plus the initial offset),
-        on a curved track placed on the local track frame under them."""
+        on a curved track placed on the local track frame under them, on the chord of what
+        carries them (:mod:`railexu.model.curve_start`)."""
         y0 = self.initial_lateral_m
+        chord = self._chord_placements() if self.curved else {}
         for b in self.vehicle.bodies:
             x = self.x_start_m + b.position_m[0]
             local = np.array([0.0, b.position_m[1] + y0, b.position_m[2]])
-            c, d, turn = self._placed(x, local, np.eye(3))
+            c, d, turn = self._placed(x, local, np.eye(3), chord.get(b.name, (0.0, 0.0)))
             self._add_rigid_body(b.name, b.mass_kg, b.inertia_kg_m2, c, np.eye(3), None, d, turn)
+
+    def _chord_placements(self) -> dict[str, tuple[float, float]]:
+        """Each body's lateral offset and yaw in its local track frame at the start inside a
+        curve: on the chord of what carries it (:func:`~railexu.model.curve_start.
+        chord_placements`)."""
+        x0, y0 = self.x_start_m, self.initial_lateral_m  # y0: every body's offset already
+        wheelsets = {ws.name: (x0 + ws.position_x_m, st.lateral_m - y0)
+                     for ws, st in zip(self.vehicle.wheelsets, self.initial_wheelsets,
+                                       strict=True)}  # fmt: skip
+        bodies = {b.name: x0 + b.position_m[0] for b in self.vehicle.bodies}
+        supports = [Support(tuple(el.bodies), x0 + el.position_m[0])
+                    for el in self.vehicle.suspension if carries_statically(el)]  # fmt: skip
+        return chord_placements(wheelsets, bodies, supports, self._track_pose)
 
     def _add_wheelsets(self) -> None:
         """Wheelsets pressed onto the rails, spinning at their free-rolling rate; the axle is
