@@ -179,9 +179,13 @@ def station_table_set(
     x_max_m: float = 0.06,
     curvature_smoothing_m: float = 5.0e-4,
     share_plain: bool = True,
+    grid: tuple[float, int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The distinct kernel tables ``(n_tables, n, columns)`` of the stations, which table each
     station has (``(n_stations,)`` int64) and the grid's info ``(y0, step, n)``.
+
+    ``grid = (y0, n)``: the tables' rows (default :func:`table_grid` of these stations; give
+    the grid of every station of the zone when these are a subset, :func:`adaptive_stations`).
 
     Stations before the profile's first slice, after its last, and those whose effective
     section lies on the plain rail between a zoned profile's panels (``rail.is_plain_over``,
@@ -192,12 +196,10 @@ def station_table_set(
     """
     origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
     step = pair.rail_table.step_m
-    lo, hi = np.inf, -np.inf
-    for s in stations_m:
-        for x in (-x_max_m, 0.0, x_max_m):
-            for y, _ in _placed_curves(rail, s + x, pair.rail_cant_rad, origin):
-                lo, hi = min(lo, y[0]), max(hi, y[-1])
-    n = int(np.floor((hi - lo) / step)) + 1
+    if grid is None:
+        lo, n = table_grid(rail, pair, stations_m, rail_origin_m=origin, x_max_m=x_max_m)
+    else:
+        lo, n = float(grid[0]), int(grid[1])
     cache: dict = {}
     tabs: list[np.ndarray] = []
     index = np.zeros(len(stations_m), dtype=np.int64)
@@ -222,3 +224,22 @@ def station_table_set(
         for key in [k for k in cache if k < round((s - x_max_m) * 1e9) - 1]:
             del cache[key]
     return np.stack(tabs), index, np.array([lo, step, float(n)])
+
+
+def table_grid(
+    rail: VariableProfile,
+    pair: WheelRailPair,
+    stations_m: np.ndarray,
+    *,
+    rail_origin_m: tuple[float, float] | None = None,
+    x_max_m: float = 0.06,
+) -> tuple[float, int]:
+    """The common grid ``(y0, n)`` of the stations' tables: every curve at each station and
+    the ends of its effective section, on the placed rail table's step."""
+    origin = pair.rail_origin_track_m if rail_origin_m is None else rail_origin_m
+    lo, hi = np.inf, -np.inf
+    for s in stations_m:
+        for x in (-x_max_m, 0.0, x_max_m):
+            for y, _ in _placed_curves(rail, s + x, pair.rail_cant_rad, origin):
+                lo, hi = min(lo, y[0]), max(hi, y[-1])
+    return float(lo), int(np.floor((hi - lo) / pair.rail_table.step_m)) + 1
