@@ -1,12 +1,17 @@
 """Where the compiled contact kernel's time goes on a crossing against plain track (issue 29).
 
-For one wheel (the left, the crossing's side) on three rail tables:
+For one wheel (the left, the crossing's side) on five rail tables, pressed with about 49 kN
+where not stated:
 
 - ``plain``: the plain rail (S1002 on Manchester UIC60, 1:40), one point on the tread;
 - ``short crossing``: the two-rail effective section of CONTACT's ``uk_interrupt_v2`` at
   s = 160 mm (``benchmarks/sc_contact.py``'s case: nose and wing rail, 3 loaded points);
+- ``UK plain 56E1``: the shipped crossing's own plain rail (upright), the reference of the
+  next two;
 - ``UK crossing``: the shipped whole crossing's effective section (the left side of
   ``uk_crossing_facing``) at s = 0.28 m, the transfer from wing rail to nose (two rails);
+- ``turnout blade``: the shipped turnout's switch panel (through route, left side) 3.5 m
+  after the toe, blade and stock rail;
 
 it times, per call (best of several loops of ``n`` calls, one process, interleaved):
 
@@ -156,11 +161,23 @@ def cases() -> list[tuple[str, WheelsetContactModel, np.ndarray, np.ndarray, flo
         x_max_m=vr.x_max_m,
     )  # fmt: skip
     uk_height = _pressed_height(uk, tabs[0], uk_info, 0.0, 49_000.0)
+    # the turnout's switch panel (through route, left: the straight blade against the curved
+    # stock rail) 3.5 m after the toe, where the blade carries the wheel; the same 56E1 rail
+    turnout = load_track("turnout_uk_r245_through_facing").variable_rails
+    toe = turnout.left.panels[0].range_m[0] + 0.2  # the slices begin 0.2 m ahead of the toe
+    blade, blade_info = station_tables(
+        turnout.left, uk.geometry.left, np.array([toe + 3.5]),
+        rail_origin_m=turnout.rail_origin_m, x_max_m=turnout.x_max_m,
+    )  # fmt: skip
     return [
         ("plain", m, m.rtab_l, m.rinfo_l, 0.0035, 0.45997),
         ("short crossing (2 rails)", m, short, short_info, 0.0035, 0.4609236),
+        ("UK plain 56E1", uk, uk.rtab_l, uk.rinfo_l, 0.0,
+         _pressed_height(uk, uk.rtab_l, uk.rinfo_l, 0.0, 49_000.0)),
         ("UK crossing s = 0.28 m", uk, tabs[0], uk_info, 0.0, uk_height),
-    ]
+        ("turnout blade, toe + 3.5 m", uk, blade[0], blade_info, 0.0,
+         _pressed_height(uk, blade[0], blade_info, 0.0, 49_000.0)),
+    ]  # fmt: skip
 
 
 def _pressed_height(m, rtab, rinfo, cy, load_n) -> float:
@@ -213,9 +230,12 @@ def main(n: int = 20_000) -> None:
         print(f"{label:<28s} {int(rinfo[2]):5d} {nodes:5d} {found:4d} {loaded:4d} {us[0]:7.2f} "
               f"{us[1]:7.2f} {us[2]:7.2f} {us[3]:7.2f} {us[4] - us[1] - us[2]:7.2f} "
               f"{us[3] - us[4]:7.2f}")  # fmt: skip
-    base = rows[0][1][3]
-    for label, us in rows[1:]:
-        print(f"ratio {label} / plain, whole wheel: {us[3] / base:.2f}")
+    plain = {"short crossing (2 rails)": 0, "UK crossing s = 0.28 m": 2}
+    plain["turnout blade, toe + 3.5 m"] = 2
+    for label, us in rows:
+        if label in plain:
+            ref_label, ref = rows[plain[label]]
+            print(f"ratio {label} / {ref_label}, whole wheel: {us[3] / ref[3]:.2f}")
 
 
 if __name__ == "__main__":
