@@ -13,7 +13,7 @@ turnout's panels is one row (a 0.6 m zone at 10 mm with a 150 mm wide crossing: 
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -55,20 +55,17 @@ def sc_kernel_fields(
     for k, (profile, pair) in enumerate(zip(rails.sides(), geometry.pairs, strict=True)):
         if profile is None:
             continue
-        s_m = stations - rails.start_m
-        options = {"rail_origin_m": rails.rail_origin_m, "x_max_m": rails.x_max_m}
-        grid = table_grid(profile, pair, s_m, **options)
-        index = station_table_plan(profile, s_m, x_max_m=rails.x_max_m, share_plain=share_tables)
-        tables = station_tables_in_order(
-            profile, pair, s_m, index, grid, curvature_smoothing_m=curvature_smoothing_m,
-            **options,
+        tables, index, info = station_table_set(
+            profile, pair, stations - rails.start_m, rail_origin_m=rails.rail_origin_m,
+            x_max_m=rails.x_max_m, curvature_smoothing_m=curvature_smoothing_m,
+            share_plain=share_tables,
         )  # fmt: skip
         if not share_rows:  # every station its own row
             tables = _per_station(tables, index)
             index = np.arange(index.size, dtype=np.int64)
         side_index[k] = len(sets)
-        sets.append((k, tables, index, grid[1]))
-        infos[k] = (grid[0], pair.rail_table.step_m, grid[1])
+        sets.append((k, tables, index, int(info[2])))
+        infos[k] = info
     rows = max(m for _, _, _, m in sets)
     table, station_rows = envelope_rows(sets, rows, stations.size)
     return {
@@ -84,7 +81,38 @@ def sc_kernel_fields(
     }
 
 
-def _per_station(tables: Iterator[tuple[int, np.ndarray]], index: np.ndarray):
+def station_table_set(
+    profile, pair, stations_m: np.ndarray, **options
+) -> tuple[Iterable[tuple[int, np.ndarray]], np.ndarray, np.ndarray]:
+    """One side's station tables as :func:`railexu.contact.variable_tables.station_table_set`
+    gives them (``tables, index, info``), but ``tables`` computed as they are read: an iterable
+    of ``(number, table)`` in station order (each pass computes them again), so that the store
+    (:func:`envelope_rows`) is written without holding every table of the zone."""
+    rail_origin_m = options.pop("rail_origin_m", None)
+    x_max_m = options.pop("x_max_m", 0.06)
+    share_plain = options.pop("share_plain", True)
+    grid = table_grid(profile, pair, stations_m, rail_origin_m=rail_origin_m, x_max_m=x_max_m)
+    index = station_table_plan(profile, stations_m, x_max_m=x_max_m, share_plain=share_plain)
+    tables = _InOrder(
+        lambda: station_tables_in_order(
+            profile, pair, stations_m, index, grid, rail_origin_m=rail_origin_m,
+            x_max_m=x_max_m, **options,
+        )
+    )  # fmt: skip
+    return tables, index, np.array([grid[0], pair.rail_table.step_m, float(grid[1])])
+
+
+class _InOrder:
+    """A re-iterable over a generator function's items (each pass calls it again)."""
+
+    def __init__(self, make: Callable[[], Iterator[tuple[int, np.ndarray]]]):
+        self._make = make
+
+    def __iter__(self) -> Iterator[tuple[int, np.ndarray]]:
+        return self._make()
+
+
+def _per_station(tables: Iterable[tuple[int, np.ndarray]], index: np.ndarray):
     """The distinct tables of ``tables`` as one per station, numbered by station."""
     stations_of: dict[int, list[int]] = {}
     for i, t in enumerate(index):
