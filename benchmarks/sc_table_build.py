@@ -8,12 +8,14 @@ under ``/usr/bin/time -v`` for the peak resident memory:
     /usr/bin/time -v python benchmarks/sc_table_build.py uk_crossing_facing
 
 Arguments: the track name (default ``uk_crossing_facing``), ``--set KEY=VALUE`` overrides of
-the track file (e.g. ``variable_rails.station_step=10 mm``).
+the track file (e.g. ``variable_rails.station_step=10 mm``); ``--digest`` prints a digest of
+the store (two versions that build the same store to the last bit print the same).
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import time
 
 from railexu.model.assembly import wheelset_geometry
@@ -26,6 +28,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("track", nargs="?", default="uk_crossing_facing")
     ap.add_argument("--set", action="append", default=[], help="track override KEY=VALUE")
+    ap.add_argument("--digest", action="store_true", help="print a digest of the store's bytes")
     a = ap.parse_args()
     track = load_track(a.track, a.set or None)
     geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
@@ -38,6 +41,9 @@ def main() -> None:
         f"{tab.shape[1]} x {tab.shape[2]} ({tab.nbytes / 1e6:.0f} MB); build {cpu:.1f} s "
         f"processor, {wall:.1f} s wall"
     )
+    if a.digest:  # two versions that build the same store to the last bit print the same
+        print("store digest", hashlib.sha256(tab.tobytes()).hexdigest()[:16],
+              hashlib.sha256(fields["sc_index"].tobytes()).hexdigest()[:16])  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -156,3 +156,28 @@ def test_dropped_stations_within_the_bound(pair):
             slope = np.maximum(np.abs(full[i, :, 1]), np.abs(full[a, :, 1]))
             normal = np.abs(blend - own)[reach] / np.sqrt(1.0 + slope[reach] ** 2)
             assert normal.max() <= 2 * tol, (stations[i], normal.max())
+
+
+def test_sections_between_equal_slices_computed_once(pair):
+    """Slices 0.1 m and 0.2 m apart that are the same rail (a UIC60 1 mm higher between two
+    plain ones): every section between them is computed once (the cache holds one entry for
+    the interval) and the station's table is the same, to the last bit, as with every section
+    computed at its own position (no cache)."""
+    pts = _uic60_points()
+    risen = pts - np.array([0.0, 1e-3])
+    rail = VariableProfile(ProfileSlices("plateau", np.array([0.0, 0.1, 0.3, 0.4]),
+                                         (pts, risen, risen, pts), None, (None,) * 4,
+                                         ("UIC60", "+1 mm", "+1 mm", "UIC60")))  # fmt: skip
+    grid = table_grid(rail, pair, np.array([0.2]), x_max_m=0.06)
+    cache: dict = {}
+    shared, _ = section_rail_arrays(rail, 0.2, pair, x_max_m=0.06, grid=grid, cache=cache)
+    assert len(cache) == 1  # the window 0.14 ... 0.26 m lies inside the plateau
+    xs = np.arange(-0.06, 0.06 + 2.5e-4, 5e-4)
+    grid_y = grid[0] + pair.rail_table.step_m * np.arange(grid[1])
+    own = [_section_surface(rail, 0.2 + x, pair.rail_cant_rad, pair.rail_origin_track_m, grid_y,
+                            None) for x in xs]  # fmt: skip
+    for z, dz, d2z in own:
+        assert np.array_equal(z, own[0][0]) and np.array_equal(dz, own[0][1])
+        assert np.array_equal(d2z, own[0][2])
+    alone, _ = section_rail_arrays(rail, 0.2, pair, x_max_m=0.06, grid=grid)
+    assert np.array_equal(shared, alone)

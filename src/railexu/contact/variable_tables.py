@@ -34,6 +34,8 @@ section's. Errors: ``x_step^2 / (8 r)`` from the sampling of ``x`` (0.07 um at 0
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.linalg import solve_banded
@@ -115,13 +117,49 @@ def _circle_drop(pair: WheelRailPair, grid: np.ndarray, xs: np.ndarray) -> np.nd
 
 def _section_surface(rail, s_m, cant, origin, grid, cache) -> tuple:
     """:func:`_top_surface` of the section at ``s`` (from ``cache`` if computed: keyed by ``s``
-    in nanometres; positions that differ by rounding alone share a key or are recomputed)."""
+    in nanometres; positions that differ by rounding alone share a key or are recomputed).
+    Inside a slice interval whose two slices are the same curves (a check rail's straight
+    middle, the plain rail at a crossing's ends) every section is the interval's first one
+    (:func:`_unchanging_start`): computed once, keyed by that slice's position."""
     if cache is None:
         return _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
-    key = round(s_m * 1e9)
+    key = round(_unchanging_start(rail, s_m) * 1e9)
     if key not in cache:
         cache[key] = _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
     return cache[key]
+
+
+#: per variable profile: which slice intervals have the same curves at both ends
+_UNCHANGING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _unchanging_start(rail, s_m: float) -> float:
+    """The position of the slice that begins the interval holding ``s`` when both slices of
+    that interval are the same resampled curves (the same points, the same parts present):
+    every section inside is then that slice's section (``a + w (b - a)`` with ``b = a`` is
+    ``a + 0`` for every ``w``: the same numbers to the last bit). Before the first slice and
+    after the last the profile is the end slice's (``VariableProfile`` clamps ``s``): their
+    positions. Otherwise ``s``. Only for a :class:`~railexu.profiles.variable.VariableProfile`
+    (its resampled slices)."""
+    samples = getattr(rail, "_samples", None)
+    present = getattr(rail, "_present", None)
+    if samples is None or present is None:
+        return s_m
+    same = _UNCHANGING.get(rail)
+    if same is None:
+        same = np.array([
+            np.array_equal(samples[i], samples[i + 1], equal_nan=True)
+            and np.array_equal(present[i], present[i + 1])
+            for i in range(samples.shape[0] - 1)
+        ], dtype=bool)  # fmt: skip
+        _UNCHANGING[rail] = same
+    pos = rail.positions_m
+    if s_m <= pos[0] or s_m >= pos[-1]:
+        return float(pos[0] if s_m <= pos[0] else pos[-1])
+    i = int(np.searchsorted(pos, s_m, side="right")) - 1
+    if 0 <= i < same.size and same[i]:
+        return float(pos[i])
+    return s_m
 
 
 def _placed_curves(rail, s_m, cant, origin) -> list[tuple[np.ndarray, np.ndarray]]:
