@@ -119,11 +119,13 @@ def _section_surface(rail, s_m, cant, origin, grid, cache) -> tuple:
     """:func:`_top_surface` of the section at ``s`` (from ``cache`` if computed: keyed by ``s``
     in nanometres; positions that differ by rounding alone share a key or are recomputed).
     Inside a slice interval whose two slices are the same curves (a check rail's straight
-    middle, the plain rail at a crossing's ends) every section is the interval's first one
-    (:func:`_unchanging_start`): computed once, keyed by that slice's position."""
+    middle, the plain rail at a crossing's ends), before the first slice and after the last,
+    every section is the same: computed once under one key (:func:`_unchanging_key`)."""
     if cache is None:
         return _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
-    key = round(_unchanging_start(rail, s_m) * 1e9)
+    key = _unchanging_key(rail, s_m)
+    if key is None:
+        key = round(s_m * 1e9)
     if key not in cache:
         cache[key] = _top_surface(_placed_curves(rail, s_m, cant, origin), grid)
     return cache[key]
@@ -133,18 +135,19 @@ def _section_surface(rail, s_m, cant, origin, grid, cache) -> tuple:
 _UNCHANGING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _unchanging_start(rail, s_m: float) -> float:
-    """The position of the slice that begins the interval holding ``s`` when both slices of
-    that interval are the same resampled curves (the same points, the same parts present):
-    every section inside is then that slice's section (``a + w (b - a)`` with ``b = a`` is
-    ``a + 0`` for every ``w``: the same numbers to the last bit). Before the first slice and
-    after the last the profile is the end slice's (``VariableProfile`` clamps ``s``): their
-    positions. Otherwise ``s``. Only for a :class:`~railexu.profiles.variable.VariableProfile`
-    (its resampled slices)."""
+def _unchanging_key(rail, s_m: float) -> int | None:
+    """A cache key shared by every section of a slice interval whose two slices are the same
+    resampled curves (the same points, the same parts present), or of the stretch before the
+    first slice or after the last (where ``VariableProfile`` clamps ``s``): all these sections
+    are the same numbers to the last bit (``a + w (b - a)`` with ``b = a`` is ``a + 0`` for
+    every ``w``). ``None`` elsewhere, and within 1 nm of a slice, where positions keep their
+    own keys (which positions closer than 0.5 nm share: as before). The keys are negative
+    (``-2^60 + interval``), never a position's, and dropped with the cache's old entries (then
+    computed once more). Only for a :class:`~railexu.profiles.variable.VariableProfile`."""
     samples = getattr(rail, "_samples", None)
     present = getattr(rail, "_present", None)
     if samples is None or present is None:
-        return s_m
+        return None
     same = _UNCHANGING.get(rail)
     if same is None:
         same = np.array([
@@ -154,12 +157,14 @@ def _unchanging_start(rail, s_m: float) -> float:
         ], dtype=bool)  # fmt: skip
         _UNCHANGING[rail] = same
     pos = rail.positions_m
-    if s_m <= pos[0] or s_m >= pos[-1]:
-        return float(pos[0] if s_m <= pos[0] else pos[-1])
+    if s_m < pos[0] - 1e-9:
+        return -(1 << 60) - 1
+    if s_m > pos[-1] + 1e-9:
+        return -(1 << 60) + same.size
     i = int(np.searchsorted(pos, s_m, side="right")) - 1
-    if 0 <= i < same.size and same[i]:
-        return float(pos[i])
-    return s_m
+    if 0 <= i < same.size and same[i] and pos[i] + 1e-9 < s_m < pos[i + 1] - 1e-9:
+        return -(1 << 60) + i
+    return None
 
 
 def _placed_curves(rail, s_m, cant, origin) -> list[tuple[np.ndarray, np.ndarray]]:
