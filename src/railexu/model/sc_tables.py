@@ -18,12 +18,14 @@ from collections.abc import Callable, Iterable, Iterator
 import numpy as np
 
 from railexu.contact import kernel as K
-from railexu.contact.placement import WheelsetGeometry
+from railexu.contact.placement import WheelRailPair, WheelsetGeometry
 from railexu.contact.variable_tables import (
     station_table_plan,
     station_tables_in_order,
     table_grid,
 )
+from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.zoned import ZonedProfile
 from railexu.track.variable_rails import VariableRails
 
 
@@ -87,8 +89,9 @@ def sc_kernel_fields(
 
 
 def station_table_set(
-    profile, pair, stations_m: np.ndarray, **options
-) -> tuple[Iterable[tuple[int, np.ndarray]], np.ndarray, np.ndarray]:
+    profile: VariableProfile | ZonedProfile, pair: WheelRailPair, stations_m: np.ndarray,
+    **options,
+) -> tuple[Iterable[tuple[int, np.ndarray]], np.ndarray, np.ndarray]:  # fmt: skip
     """One side's station tables as :func:`railexu.contact.variable_tables.station_table_set`
     gives them (``tables, index, info``), but ``tables`` computed as they are read: an iterable
     of ``(number, table)`` in station order (each pass computes them again), so that the store
