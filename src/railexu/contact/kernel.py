@@ -712,7 +712,8 @@ def find_contact_candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_ste
             increasing ``s``; unused entries hold NaN.
         cand_h: output (length ``MAX_POINTS``): ``cand_h[k]`` is the highest gap between
             candidates ``k`` and ``k + 1`` (the hump separating them), computed only where both
-            overlap the rail (NaN otherwise).
+            overlap the rail (NaN otherwise); a lower bound of at least ``HUMP_SEPARATE_M``
+            where a scan node between them lies that high.
 
     Returns:
         the number of candidates found.
@@ -738,6 +739,16 @@ def _candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s, c
     :func:`candidates_work_size` entries), compiled without reference counting."""
     ctx = _make_ctx(winfo, rinfo, cy, cz, phi, psi)
     return _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work)
+
+
+#: A hump this far above the rail [m] separates two patches whatever its exact height: the
+#: weights of minima sharing an overlap (:func:`candidate_weights`) and the patch sums
+#: (:func:`patch_centre`) look at humps below the overlap (``< 0``) only. Where a scan node
+#: between two minima is this high, ``cand_h`` is that node's gap (a lower bound of the hump)
+#: instead of the hump refined to machine precision: the forces are the same to the last bit,
+#: and a wheel on two rails across a flangeway (a hump of centimetres) skips a refinement of
+#: some 14 gap evaluations (issue 29's cost per rail; docs/performance.md).
+HUMP_SEPARATE_M = 1.0e-3
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
@@ -881,8 +892,14 @@ def _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work):
                         break
                     lo = sk
                 j += 1
-            s_max = _refine(lo, hi, wtab, rtab, ctx, -1.0)
-            cand_h[i] = max(_gap_at(s_max, wtab, rtab, ctx)[0], cand_g[i], cand_g[i + 1])
+            g_lo = _gap_at(lo, wtab, rtab, ctx)[0]
+            if g_lo >= HUMP_SEPARATE_M:
+                # two separate patches (two rails across a flangeway, tread and flange apart):
+                # a lower bound of the hump is all its users need (HUMP_SEPARATE_M)
+                cand_h[i] = g_lo
+            else:
+                s_max = _refine(lo, hi, wtab, rtab, ctx, -1.0)
+                cand_h[i] = max(_gap_at(s_max, wtab, rtab, ctx)[0], cand_g[i], cand_g[i + 1])
         else:
             cand_h[i] = max(cand_g[i], cand_g[i + 1])
     return n_found

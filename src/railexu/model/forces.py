@@ -111,6 +111,7 @@ NO_SC_INFO = np.zeros((2, 3))
 NO_SC_CACHE = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
 NO_SC_KEY = np.zeros((0, 2), dtype=np.int64)
 NO_SC_T = np.zeros((0, 2))
+NO_SC_BASE = np.zeros((0, 1, K.T_SLOPE_MAX))
 
 
 class KernelData(NamedTuple):
@@ -165,6 +166,9 @@ class KernelData(NamedTuple):
     sc_cache: np.ndarray = NO_SC_CACHE  # (n_ws, n_sides, M, columns)
     sc_key: np.ndarray = NO_SC_KEY  # (n_ws, 2) int64
     sc_t: np.ndarray = NO_SC_T  # (n_ws, 2)
+    # the four base columns of sc_tab on their own (n_rows, M, 4): the blend at a new position
+    # reads 32 bytes a row instead of a 224-byte row's first 32 (2.5x faster, model/sc_tables.py)
+    sc_base: np.ndarray = NO_SC_BASE
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -336,7 +340,8 @@ def _blend_station(d, w, i, t, side):
     cache (``d.sc_cache[w, sc_side]``): the bound columns (pair envelopes of stations ``i`` and
     ``i + 1``, :func:`railexu.model.sc_tables.pair_envelope_bounds`) copied only when ``i``
     changes, the four base columns blended only when ``t`` does (the solver's evaluations at
-    one track position, its Jacobian's columns but the longitudinal one, reuse it)."""
+    one track position, its Jacobian's columns but the longitudinal one, reuse it), read from
+    their own contiguous copy (``d.sc_base``)."""
     j = d.sc_side[side]
     out = d.sc_cache[w, j]
     a = d.sc_tab[d.sc_index[i, side]]
@@ -347,7 +352,8 @@ def _blend_station(d, w, i, t, side):
         d.sc_key[w, side] = i
         d.sc_t[w, side] = np.nan
     if d.sc_t[w, side] != t:
-        b = d.sc_tab[d.sc_index[i + 1, side]]
+        a = d.sc_base[d.sc_index[i, side]]
+        b = d.sc_base[d.sc_index[i + 1, side]]
         for r in range(out.shape[0]):
             for c in range(K.T_SLOPE_MAX):
                 out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
