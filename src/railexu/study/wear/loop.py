@@ -47,6 +47,7 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.wear.laws import DEFAULT_WEAR_LAW, wear_law_code
 from railexu.errors import InputError
 from railexu.model.assembly import wheelset_geometry
+from railexu.operation.run_settings import RunSettings
 from railexu.profiles import wheel_profile
 from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
@@ -82,6 +83,10 @@ class WearLoopResult:
     complete: bool = False
     #: why the loop stopped before the mileage ("" when complete)
     reason: str = ""
+    #: the cases that did not complete (even at :data:`MIN_TIME_STEP_S`) when the loop stopped
+    #: for them, ``<section>_<direction>: <status>``; the profiles they ran with are the last
+    #: step's, which is kept
+    failed_cases: list[str] = field(default_factory=list)
 
     def column(self, key: str) -> np.ndarray:
         """``key`` of every step's row, in order (NaN where missing)."""
@@ -237,7 +242,7 @@ def wear_loop(
     # cumulated depth (the re-read points' errors do not accumulate over the steps)
     original = dict(current)
     total: dict[str, np.ndarray] = {}
-    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
+    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0, "status": "new profiles"}
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m, False, "")
@@ -265,8 +270,15 @@ def wear_loop(
         if rates["bad"]:
             # a case that derailed, diverged or was stopped wears over part of its window only:
             # the loop stops here with the profiles so far and says why
-            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete: "
-                      f"{'; '.join(rates['bad'])}")  # fmt: skip
+            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete "
+                      f"(a diverged case was run again down to {MIN_TIME_STEP_S * 1e3:g} ms): "
+                      f"{'; '.join(rates['bad'])}; the loop stopped, its {step} finished "
+                      "step(s) are kept")  # fmt: skip
+            result.failed_cases = list(rates["bad"])
+            result.steps[-1]["status"] = (
+                f"the route at these profiles did not complete ({'; '.join(rates['bad'])}): "
+                "the loop stopped here"
+            )
             log(reason)
             break
         if last is not None and control:
@@ -298,8 +310,9 @@ def wear_loop(
                 "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
         step += 1
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
-               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected,
-               "min_time_step_ms": rates["min_time_step_s"] * 1e3}  # fmt: skip
+               "status": _step_status(rates["again"]), "steps_made_again": rejected,
+               "min_time_step_ms": rates["min_time_step_s"] * 1e3,
+               "cases_run_again": "; ".join(rates["again"])}  # fmt: skip
         new, total = {}, dict(total)
         for key, _, _ in keys:
             worn = rates["smooth"][key] * dl
@@ -340,6 +353,16 @@ def wear_loop(
     return result
 
 
+def _step_status(again: list[str]) -> str:
+    """A step's ``status`` in ``steps.csv``: ``completed``, or which of the route's cases
+    diverged at railexu's time step and completed at a smaller one (the rule of
+    :func:`.route_study.run_route_cases`)."""
+    if not again:
+        return "completed"
+    return (f"completed; {len(again)} case(s) diverged and completed with a smaller time "
+            f"step: {'; '.join(again)}")  # fmt: skip
+
+
 def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
                  initial_lateral_m, keys, smoothing_m, log) -> dict:  # fmt: skip
     """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
@@ -353,6 +376,10 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
     if bad:
         return {"bad": bad}
     steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
+    default_dt = RunSettings().time_step_s
+    again = [f"{c.name}_{c.direction} ({float(r['time_step_s']) * 1e3:g} ms)"
+             for c, r in cases.items()
+             if float(r.get("time_step_s", default_dt)) < default_dt * (1 - 1e-9)]  # fmt: skip
     grid = np.asarray(next(iter(cases.values()))["grid"])
     depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
              for k, _, _ in keys}  # fmt: skip
@@ -364,6 +391,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "vol": vol,
         "peak": max(float(d.max()) for d in smooth.values()),
         "bad": bad,
+        "again": again,
         "min_time_step_s": min(steps) if steps else math.nan,
         "y": grid[0] + grid[1] * np.arange(int(grid[2])),
     }
@@ -402,6 +430,12 @@ def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_
         "mileage_km": result.steps[-1]["mileage_km"] if result.steps else 0.0,
         "steps": len(result.steps) - 1,
         "conicity": "EN 15302, y = 3 mm, nonlinear method, on the route's straight rails",
+        "time_step_rule": (
+            "a case that diverges is run again with half the integration step, down to "
+            f"{MIN_TIME_STEP_S * 1e3:g} ms; a case that still does not complete stops the loop, "
+            "with its finished steps kept"
+        ),
+        "failed_cases": list(result.failed_cases),
         "cases": [dataclasses.asdict(c) for c in route.cases],
         "pid": os.getpid(),
     }
