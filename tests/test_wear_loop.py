@@ -239,6 +239,51 @@ def test_loop_stops_when_a_case_fails(tmp_path, monkeypatch):
         assert (tmp_path / "out" / "step_000" / name / "results.csv").is_file()
 
 
+def test_route_failing_at_a_steps_profiles_halves_the_step_then_stops(tmp_path, monkeypatch):
+    """Past a divergence (docs/wear.md): when the route does not complete at the profiles of
+    the step just made (injected: every run with the profiles of step 1 ends diverged), that
+    step is made again with half the depth (rule max_depth, ``failure_halvings`` times in a
+    row), its row says why; when that does not help the loop stops, keeps its finished steps,
+    and says so in steps.csv and wear.json. The time-step retries are switched off here
+    (``MIN_TIME_STEP_S`` = 2 ms) to keep the test short; they are tested above."""
+    import dataclasses
+
+    import railexu.results.run as run_module
+    from railexu.study.wear import loop, route_study
+
+    monkeypatch.setattr(route_study, "MIN_TIME_STEP_S", 2e-3)
+    real = run_module.run
+
+    def fake(vehicle, track, settings, *a, **k):
+        result = real(vehicle, track, settings, *a, **k)
+        if "step_001" in repr(vehicle.wheelsets):  # the profiles of step 1
+            return dataclasses.replace(result, status={**result.status, "state": "diverged"})
+        return result
+
+    monkeypatch.setattr(run_module, "run", fake)
+    route = _route(
+        tmp_path,
+        "format_version: 1\nname: c\nsections:\n  - {name: R200, share: 1, speed: 15 m/s, "
+        "length: 8 m, radius: 200 m, cant: 0 mm, directions: reverse}\n",
+    )
+    r = loop.wear_loop("wheelset", route, 1e4, tmp_path / "out", rate_tolerance=None,
+                       workers=0, failure_halvings=1)  # fmt: skip
+    assert not r.complete and r.failed_cases == ["R200_reverse: diverged"]
+    assert "made again with half the depth 1 time(s)" in r.reason
+    assert len(r.steps) == 2  # the new profiles and step 1, made with half the depth
+    row = r.steps[1]
+    assert max(row["ws1_left_max_depth_mm"], row["ws1_right_max_depth_mm"]) == pytest.approx(
+        0.05, rel=1e-6
+    )
+    assert "made again with half the depth: the route at the profiles of" in row["status"]
+    assert row["status"].endswith(
+        "did not complete (R200_reverse: diverged): the loop stopped here"
+    )
+    info = json.loads((tmp_path / "out" / "wear.json").read_text())
+    assert info["complete"] is False and "at most 1 time(s) in a row" in info["failure_rule"]
+    assert "the loop stopped here" in (tmp_path / "out" / "steps.csv").read_text()
+
+
 def test_worn_profile_curvature_bounded_and_flange_monotone(tmp_path):
     """The profile update keeps a smooth profile (issue 30 follow-up): a Gaussian depth of peak
     ``A`` and width ``sigma`` at the flange root changes the graph's second derivative by at
