@@ -163,6 +163,10 @@ def test_cli_wear(tmp_path, capsys):
     assert main(["wear", "wheelset", str(bad), "--mileage", "1 km", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "sections[0].lenght: unknown key. Did you mean 'length'?" in err
+    bad_halvings = ["--failure-halvings", "7", "--workers", "0"]
+    assert main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out)]
+                + bad_halvings) == 2  # fmt: skip
+    assert "failure_halvings" in capsys.readouterr().err
 
 
 def test_step_size_study(tmp_path):
