@@ -8,7 +8,9 @@ One step:
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
    the step's cases are one study run by :func:`railexu.study.run_study` (local worker
    processes or a Dask distributed cluster, :mod:`.route_study`), resumable; a case that
-   diverges is run again with half the integration step down to :data:`MIN_TIME_STEP_S`;
+   diverges is run again with half the integration step down to :data:`MIN_TIME_STEP_S`; a
+   route that still does not complete at the profiles of the step just made makes that step
+   again with half the depth (:data:`FAILURE_HALVINGS` times in a row at most), then stops;
    each case's wear is kept in ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from
    the studies and these files;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
@@ -208,8 +210,9 @@ def wear_loop(
         scheduler: a Dask scheduler address (``tcp://host:port``) or a ``distributed.Client``:
             the cases run on that cluster (:func:`railexu.study.run_study`).
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
-            A case that does not complete (derailed, diverged) also stops the loop, with the
-            profiles so far and the reason in ``wear.json``.
+            A case that does not complete (derailed, diverged) is not worn: the step is made
+            again (``failure_halvings``) or the loop stops, with the profiles so far and the
+            reason in ``wear.json``.
         initial_lateral_m: the wheelsets' initial lateral offset in each case [m].
         rate_tolerance: rule ``max_depth``: a step over which the route's largest wear rate
             changes by more than this factor (up or down) is made again with half the depth
@@ -480,8 +483,8 @@ def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_
         "conicity": "EN 15302, y = 3 mm, nonlinear method, on the route's straight rails",
         "time_step_rule": (
             "a case that diverges is run again with half the integration step, down to "
-            f"{MIN_TIME_STEP_S * 1e3:g} ms; a case that still does not complete stops the loop, "
-            "with its finished steps kept"
+            f"{MIN_TIME_STEP_S * 1e3:g} ms; a case that still does not complete is not worn "
+            "(failure_rule)"
         ),
         "failure_rule": (
             f"rule max_depth: when the route does not complete at a step's profiles, that step "
