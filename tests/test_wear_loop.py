@@ -163,6 +163,10 @@ def test_cli_wear(tmp_path, capsys):
     assert main(["wear", "wheelset", str(bad), "--mileage", "1 km", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "sections[0].lenght: unknown key. Did you mean 'length'?" in err
+    bad_halvings = ["--failure-halvings", "7", "--workers", "0"]
+    assert main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out)]
+                + bad_halvings) == 2  # fmt: skip
+    assert "failure_halvings" in capsys.readouterr().err
 
 
 def test_step_size_study(tmp_path):
@@ -225,12 +229,63 @@ def test_loop_stops_when_a_case_fails(tmp_path, monkeypatch):
     )
     r = loop.wear_loop("wheelset", route, 1.0, tmp_path / "out", rate_tolerance=None, workers=0)
     assert not r.complete and "R200_reverse: diverged" in r.reason
+    assert "0.25 ms" in r.reason and "0 finished step(s) are kept" in r.reason
     assert len(r.steps) == 1  # only the new profiles
+    # the row of the profiles the route could not run says so
+    assert "did not complete (R200_reverse: diverged)" in r.steps[0]["status"]
     info = json.loads((tmp_path / "out" / "wear.json").read_text())
     assert info["complete"] is False and "diverged" in info["reason"]
+    assert info["failed_cases"] == ["R200_reverse: diverged"]
+    assert "half the integration step" in info["time_step_rule"]
+    assert "the loop stopped here" in (tmp_path / "out" / "steps.csv").read_text()
     # run again with 1, 0.5 and 0.25 ms (the study of the diverged cases alone), then given up
     for name in ("route_dt1ms", "route_dt0p5ms", "route_dt0p25ms"):
         assert (tmp_path / "out" / "step_000" / name / "results.csv").is_file()
+
+
+def test_route_failing_at_a_steps_profiles_halves_the_step_then_stops(tmp_path, monkeypatch):
+    """Past a divergence (docs/wear.md): when the route does not complete at the profiles of
+    the step just made (injected: every run with the profiles of step 1 ends diverged), that
+    step is made again with half the depth (rule max_depth, ``failure_halvings`` times in a
+    row), its row says why; when that does not help the loop stops, keeps its finished steps,
+    and says so in steps.csv and wear.json. The time-step retries are switched off here
+    (``MIN_TIME_STEP_S`` = 2 ms) to keep the test short; they are tested above."""
+    import dataclasses
+
+    import railexu.results.run as run_module
+    from railexu.study.wear import loop, route_study
+
+    monkeypatch.setattr(route_study, "MIN_TIME_STEP_S", 2e-3)
+    real = run_module.run
+
+    def fake(vehicle, track, settings, *a, **k):
+        result = real(vehicle, track, settings, *a, **k)
+        if "step_001" in repr(vehicle.wheelsets):  # the profiles of step 1
+            return dataclasses.replace(result, status={**result.status, "state": "diverged"})
+        return result
+
+    monkeypatch.setattr(run_module, "run", fake)
+    route = _route(
+        tmp_path,
+        "format_version: 1\nname: c\nsections:\n  - {name: R200, share: 1, speed: 15 m/s, "
+        "length: 8 m, radius: 200 m, cant: 0 mm, directions: reverse}\n",
+    )
+    r = loop.wear_loop("wheelset", route, 1e4, tmp_path / "out", rate_tolerance=None,
+                       workers=0, failure_halvings=1)  # fmt: skip
+    assert not r.complete and r.failed_cases == ["R200_reverse: diverged"]
+    assert "made again with half the depth 1 time(s)" in r.reason
+    assert len(r.steps) == 2  # the new profiles and step 1, made with half the depth
+    row = r.steps[1]
+    assert max(row["ws1_left_max_depth_mm"], row["ws1_right_max_depth_mm"]) == pytest.approx(
+        0.05, rel=1e-6
+    )
+    assert "made again with half the depth: the route at the profiles of" in row["status"]
+    assert row["status"].endswith(
+        "did not complete (R200_reverse: diverged): the loop stopped here"
+    )
+    info = json.loads((tmp_path / "out" / "wear.json").read_text())
+    assert info["complete"] is False and "at most 1 time(s) in a row" in info["failure_rule"]
+    assert "the loop stopped here" in (tmp_path / "out" / "steps.csv").read_text()
 
 
 def test_worn_profile_curvature_bounded_and_flange_monotone(tmp_path):
@@ -276,6 +331,10 @@ def test_diverged_case_is_run_again_with_half_the_step(tmp_path, monkeypatch):
     r = wear_loop("wheelset", route, 1.0, tmp_path / "out", workers=0, max_steps=1,
                   rate_tolerance=None)  # fmt: skip
     assert r.steps[1]["min_time_step_ms"] == pytest.approx(1.0)
+    # the step's status names the case and the time step it completed with
+    assert r.steps[1]["cases_run_again"] == "straight_forward (1 ms)"
+    assert r.steps[1]["status"].startswith("completed; 1 case(s) diverged")
+    assert "straight_forward (1 ms)" in (tmp_path / "out" / "steps.csv").read_text()
     step0 = tmp_path / "out" / "step_000"
     first = read_results(step0 / "route" / "results.csv")
     assert [row["status"] for row in first] == ["diverged", "completed", "completed"]
@@ -351,21 +410,28 @@ def test_trend_curvy_route_thins_the_flange(loop_result):
         assert -0.040 <= s[int(np.argmax(depth))] <= -0.025
 
 
-def test_trend_straight_track_hollows_the_tread(tmp_path):
+@pytest.fixture(scope="module")
+def straight_result(tmp_path_factory):
+    """One step of 0.05 mm of the free wheelset on straight track at 30 m/s (one case, a few
+    seconds), shared by the two straight-track trend tests."""
+    from railexu.study.wear.loop import wear_loop
+
+    tmp = tmp_path_factory.mktemp("straight")
+    route = _route(tmp, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 30 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
+    return wear_loop("wheelset", route, 1e5, tmp / "out", max_depth_m=5e-5, max_steps=1,
+                     rate_tolerance=None, workers=0)  # fmt: skip
+
+
+def test_trend_straight_track_hollows_the_tread(straight_result):
     """Trend physics, straight track: the wheels wear on the tread only, in the band the contact
     of a centred or slightly shifted wheelset sweeps (|s| < 20 mm; nothing at the flange root,
     s < -25 mm): a hollow tread. (Whether the equivalent conicity then rises depends on where
     the contact puts the force near the centred position: the next test.)"""
-    from railexu.study.wear.loop import wear_loop
-
-    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
-                   "speed: 30 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
-    r = wear_loop("wheelset", route, 1e5, tmp_path / "out", max_depth_m=5e-5, max_steps=1,
-                  rate_tolerance=None, workers=0)  # fmt: skip
-    last = r.steps[-1]
+    last = straight_result.steps[-1]
     s = np.linspace(-0.065, 0.055, 2401)
     p0 = wheel_profile("S1002").height(s)
-    p = wheel_profile(tmp_path / "out" / "step_001" / "profiles" / "ws1_left.txt")
+    p = wheel_profile(straight_result.out / "step_001" / "profiles" / "ws1_left.txt")
     depth = p0 - p.height(s)
     assert depth.max() > 1e-5
     assert depth[s < -0.025].max() < 0.01 * depth.max()
@@ -375,23 +441,17 @@ def test_trend_straight_track_hollows_the_tread(tmp_path):
     assert last["ws1_left_flange_thickness_mm"] >= 32.5 - 1e-4
 
 
-@pytest.mark.xfail(
-    reason="with main's contact (force at the gap's deepest point, which jumps between the two "
-    "minima of S1002 on 60E1 near the centre) the straight-track conicity falls 0.18454 -> "
-    "0.18416; with branch h5's patch centroid (issue 28, not merged) it rises 0.1845 -> 0.1874",
-    strict=False,
-)
-def test_trend_straight_track_wear_raises_the_conicity(tmp_path):
+def test_trend_straight_track_wear_raises_the_conicity(straight_result):
     """Straight track: the worn band lowers the radius around the nominal rolling circle, so the
     radius difference grows faster with the lateral shift and the equivalent conicity (EN 15302,
-    3 mm) rises (docs/wear.md)."""
-    from railexu.study.wear.loop import wear_loop
-
-    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
-                   "speed: 30 m/s, length: 10 m, directions: forward}\n")  # fmt: skip
-    r = wear_loop("wheelset", route, 1e5, tmp_path / "out", max_depth_m=5e-5, max_steps=1,
-                  rate_tolerance=None, workers=0)  # fmt: skip
-    assert r.steps[-1]["ws1_conicity"] > r.steps[0]["ws1_conicity"] + 1e-4
+    3 mm) rises (docs/wear.md). Measured with the patch-centroid contact (issue 28): 0.18454 ->
+    0.19855 after one step of 0.05 mm (7709 km); with the former contact (force at the gap's
+    deepest point, which jumps between the two minima of S1002 on 60E1 near the centre) it fell
+    0.18454 -> 0.18416 and this test was an expected failure. The bound, a rise of at least
+    0.005 (a third of the measured 0.014), leaves room for contact-model changes that do not
+    turn the trend round."""
+    steps = straight_result.steps
+    assert steps[-1]["ws1_conicity"] > steps[0]["ws1_conicity"] + 0.005
 
 
 def test_loop_on_a_dask_cluster_gives_the_same_profiles(tmp_path):

@@ -47,6 +47,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    "tcp://host:port (needs pip install railexu[dask]), as railexu "
                    "study")  # fmt: skip
     p.add_argument("--max-steps", type=int, default=100, help="most steps (default 100)")
+    p.add_argument("--failure-halvings", type=int, default=2,
+                   help="when the route does not complete at a step's profiles (a case "
+                   "diverged even at 0.25 ms), make that step again with half the depth at "
+                   "most this many times in a row, then stop (default 2; 0: stop at "
+                   "once)")  # fmt: skip
     p.add_argument("--no-plots", action="store_true", help="do not draw the figures")
     p.set_defaults(func=command)
     return p
@@ -74,6 +79,7 @@ def command(args: argparse.Namespace) -> int:
         step_rule="fixed" if args.step else "max_depth", max_depth_m=args.max_depth,
         step_km=args.step / 1000.0 if args.step else None, smoothing_m=args.smoothing,
         workers=args.workers, max_steps=args.max_steps, scheduler=args.scheduler,
+        failure_halvings=args.failure_halvings,
         log=lambda line: print(line, file=sys.stderr, flush=True),
     )  # fmt: skip
     if not args.no_plots:

@@ -8,7 +8,9 @@ One step:
    (:func:`railexu.results.wear.run_wear`): the depth per km across each wheel's profile;
    the step's cases are one study run by :func:`railexu.study.run_study` (local worker
    processes or a Dask distributed cluster, :mod:`.route_study`), resumable; a case that
-   diverges is run again with half the integration step down to :data:`MIN_TIME_STEP_S`;
+   diverges is run again with half the integration step down to :data:`MIN_TIME_STEP_S`; a
+   route that still does not complete at the profiles of the step just made makes that step
+   again with half the depth (:data:`FAILURE_HALVINGS` times in a row at most), then stops;
    each case's wear is kept in ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from
    the studies and these files;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
@@ -47,6 +49,7 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.wear.laws import DEFAULT_WEAR_LAW, wear_law_code
 from railexu.errors import InputError
 from railexu.model.assembly import wheelset_geometry
+from railexu.operation.run_settings import RunSettings
 from railexu.profiles import wheel_profile
 from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
@@ -67,6 +70,10 @@ STEP_RULES = ("max_depth", "fixed")
 RATE_TOLERANCE = 1.5
 #: the smallest step depth the rate control halves to is max_depth / MAX_HALVINGS
 MAX_HALVINGS = 64
+#: rule max_depth: a route that does not complete at a step's profiles (a case diverged even at
+#: :data:`MIN_TIME_STEP_S`) makes that step again with half the depth, at most this many times
+#: in a row; then the loop stops (docs/wear.md, "Past a divergence")
+FAILURE_HALVINGS = 2
 #: the conicity amplitude (EN 15302: y = 3 mm) [m]
 CONICITY_AMPLITUDE_M = 0.003
 _SIDES = ("left", "right")
@@ -82,6 +89,13 @@ class WearLoopResult:
     complete: bool = False
     #: why the loop stopped before the mileage ("" when complete)
     reason: str = ""
+    #: the cases that did not complete (even at :data:`MIN_TIME_STEP_S`) when the loop stopped
+    #: for them, ``<section>_<direction>: <status>``; the profiles they ran with are the last
+    #: step's, which is kept
+    failed_cases: list[str] = field(default_factory=list)
+    #: rule max_depth: the most times in a row a step is made again with half the depth because
+    #: the route did not complete at its profiles
+    failure_halvings: int = 0
 
     def column(self, key: str) -> np.ndarray:
         """``key`` of every step's row, in order (NaN where missing)."""
@@ -177,6 +191,7 @@ def wear_loop(
     rate_tolerance: float | None = RATE_TOLERANCE,
     log=None,
     scheduler: Any = None,
+    failure_halvings: int = FAILURE_HALVINGS,
 ) -> WearLoopResult:
     """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
 
@@ -195,14 +210,19 @@ def wear_loop(
         scheduler: a Dask scheduler address (``tcp://host:port``) or a ``distributed.Client``:
             the cases run on that cluster (:func:`railexu.study.run_study`).
         max_steps: the most steps (the loop stops there and says so in ``wear.json``).
-            A case that does not complete (derailed, diverged) also stops the loop, with the
-            profiles so far and the reason in ``wear.json``.
+            A case that does not complete (derailed, diverged) is not worn: the step is made
+            again (``failure_halvings``) or the loop stops, with the profiles so far and the
+            reason in ``wear.json``.
         initial_lateral_m: the wheelsets' initial lateral offset in each case [m].
         rate_tolerance: rule ``max_depth``: a step over which the route's largest wear rate
             changes by more than this factor (up or down) is made again with half the depth
             (at most :data:`MAX_HALVINGS` times); the next step may double again up to
             ``max_depth_m``. None or 0: no control.
         log: a callable taking one line of progress (default: none).
+        failure_halvings: rule ``max_depth``: when the route does not complete at the profiles
+            of the step just made, that step is made again with half the depth, at most this
+            many times in a row (and not below ``max_depth_m / MAX_HALVINGS``); 0: the loop
+            stops at the first such route.
 
     Raises:
         InputError: bad arguments or input files.
@@ -217,6 +237,11 @@ def wear_loop(
         raise InputError(f"{max_depth_m!r} m: expected 0 < max depth <= 2 mm", key="max_depth")
     if step_rule == "fixed" and not (step_km and math.isfinite(step_km) and step_km > 0.0):
         raise InputError(f"{step_km!r}: expected a step > 0 km", key="step_km")
+    if isinstance(failure_halvings, bool) or not (
+        isinstance(failure_halvings, int) and 0 <= failure_halvings <= 6
+    ):
+        raise InputError(f"{failure_halvings!r}: expected an integer 0 .. 6",
+                         key="failure_halvings")  # fmt: skip
     if not (0.0 <= smoothing_m <= 0.01):
         raise InputError(f"{smoothing_m!r} m: expected 0 .. 10 mm", key="smoothing")
     vehicle, vehicle_file = _vehicle_and_file(vehicle)
@@ -230,20 +255,22 @@ def wear_loop(
         ws = vehicle.wheelsets[i]
         profiles[key] = ws.wheel_profile if side == "left" else ws.profile_right
     straight = _straight_track(route, out)
-    result = WearLoopResult(out=out)
+    result = WearLoopResult(out=out, failure_halvings=failure_halvings)
     mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
     # the new profiles and the depth removed since: every worn profile is the new one minus the
     # cumulated depth (the re-read points' errors do not accumulate over the steps)
     original = dict(current)
     total: dict[str, np.ndarray] = {}
-    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0}
+    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0, "status": "new profiles"}
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m, False, "")
     reason = ""
     last = None  # the step just made: the profiles and rates it started from, its depth
     depth_limit = max_depth_m
+    failures = 0  # steps made again in a row because the route did not complete
+    note = ""  # why the next step is made again (its row's status)
     control = step_rule == "max_depth" and bool(rate_tolerance)
     while True:
         reached = mileage >= mileage_km * (1.0 - 1e-9)
@@ -262,14 +289,38 @@ def wear_loop(
             _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                          False, result.reason)  # fmt: skip
             raise
-        if rates["bad"]:
+        halve = (step_rule == "max_depth" and last is not None and failures < failure_halvings
+                 and last["depth"] > max_depth_m / MAX_HALVINGS)  # fmt: skip
+        if rates["bad"] and not halve:
             # a case that derailed, diverged or was stopped wears over part of its window only:
             # the loop stops here with the profiles so far and says why
-            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete: "
-                      f"{'; '.join(rates['bad'])}")  # fmt: skip
+            reason = (f"at {mileage:.6g} km (profiles of step {step}) cases did not complete "
+                      f"(a diverged case was run again down to {MIN_TIME_STEP_S * 1e3:g} ms"
+                      f"{_halvings_text(failures)}): {'; '.join(rates['bad'])}; the loop "
+                      f"stopped, its {step} finished step(s) are kept")  # fmt: skip
+            result.failed_cases = list(rates["bad"])
+            result.steps[-1]["status"] += (
+                f"; the route at this step's profiles did not complete "
+                f"({'; '.join(rates['bad'])}): the loop stopped here"
+            )
             log(reason)
             break
-        if last is not None and control:
+        if rates["bad"]:
+            # the route did not complete at the last step's profiles: make it again with half
+            # the depth (other profiles on the way to the same mileage)
+            failures += 1
+            note = (f"made again with half the depth: the route at the profiles of "
+                    f"{result.steps[-1]['mileage_km']:.6g} km did not complete "
+                    f"({'; '.join(rates['bad'])})")  # fmt: skip
+            result.steps.pop()
+            step -= 1
+            profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
+            total = last["total"]
+            rates, depth_limit = last["rates"], 0.5 * last["depth"]
+            rejected += 1
+            log(f"step {step + 1} {note}")
+        elif last is not None and control:
+            failures = 0
             ratio = rates["peak"] / last["rates"]["peak"]
             if not (1.0 / rate_tolerance <= ratio <= rate_tolerance) and (
                 last["depth"] > max_depth_m / MAX_HALVINGS
@@ -287,8 +338,11 @@ def wear_loop(
             else:
                 last["checked"] = True
                 depth_limit = min(max_depth_m, 2.0 * last["depth"])
+                note = ""
                 if reached:
                     break
+        else:
+            failures = 0
         if not rates["peak"] > 0.0:
             reason = "no wear on this route (every depth is zero)"
             break
@@ -298,8 +352,10 @@ def wear_loop(
                 "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
         step += 1
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
-               "failed_cases": "; ".join(rates["bad"]), "steps_made_again": rejected,
-               "min_time_step_ms": rates["min_time_step_s"] * 1e3}  # fmt: skip
+               "status": _step_status(rates["again"], note), "steps_made_again": rejected,
+               "min_time_step_ms": rates["min_time_step_s"] * 1e3,
+               "cases_run_again": "; ".join(rates["again"])}  # fmt: skip
+        note = ""
         new, total = {}, dict(total)
         for key, _, _ in keys:
             worn = rates["smooth"][key] * dl
@@ -340,6 +396,24 @@ def wear_loop(
     return result
 
 
+def _step_status(again: list[str], note: str = "") -> str:
+    """A step's ``status`` in ``steps.csv``: ``completed``, which of the route's cases (run at
+    the profiles the step started from) diverged at railexu's time step and completed at a
+    smaller one (the rule of :func:`.route_study.run_route_cases`), and why the step was made
+    again (``note``)."""
+    text = "completed"
+    if again:
+        text += (f"; {len(again)} case(s) diverged and completed with a smaller time step: "
+                 f"{'; '.join(again)}")  # fmt: skip
+    return f"{text}; {note}" if note else text
+
+
+def _halvings_text(failures: int) -> str:
+    if not failures:
+        return ""
+    return f", and the step was made again with half the depth {failures} time(s)"
+
+
 def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
                  initial_lateral_m, keys, smoothing_m, log) -> dict:  # fmt: skip
     """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
@@ -353,6 +427,10 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
     if bad:
         return {"bad": bad}
     steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
+    default_dt = RunSettings().time_step_s
+    again = [f"{c.name}_{c.direction} ({float(r['time_step_s']) * 1e3:g} ms)"
+             for c, r in cases.items()
+             if float(r.get("time_step_s", default_dt)) < default_dt * (1 - 1e-9)]  # fmt: skip
     grid = np.asarray(next(iter(cases.values()))["grid"])
     depth = {k: sum(c.share * np.asarray(r[f"{k}_depth_per_km_m"]) for c, r in cases.items())
              for k, _, _ in keys}  # fmt: skip
@@ -364,6 +442,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "vol": vol,
         "peak": max(float(d.max()) for d in smooth.values()),
         "bad": bad,
+        "again": again,
         "min_time_step_s": min(steps) if steps else math.nan,
         "y": grid[0] + grid[1] * np.arange(int(grid[2])),
     }
@@ -402,6 +481,17 @@ def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_
         "mileage_km": result.steps[-1]["mileage_km"] if result.steps else 0.0,
         "steps": len(result.steps) - 1,
         "conicity": "EN 15302, y = 3 mm, nonlinear method, on the route's straight rails",
+        "time_step_rule": (
+            "a case that diverges is run again with half the integration step, down to "
+            f"{MIN_TIME_STEP_S * 1e3:g} ms; a case that still does not complete is not worn "
+            "(failure_rule)"
+        ),
+        "failure_rule": (
+            f"rule max_depth: when the route does not complete at a step's profiles, that step "
+            f"is made again with half the depth, at most {result.failure_halvings} time(s) in a "
+            "row; then the loop stops"
+        ),
+        "failed_cases": list(result.failed_cases),
         "cases": [dataclasses.asdict(c) for c in route.cases],
         "pid": os.getpid(),
     }
