@@ -113,11 +113,6 @@ def test_the_sweep_covers_the_operating_load(new_sweep, worn_sweep):
         assert normal.min() < 1.1e5 < normal.max()
 
 
-@pytest.mark.xfail(
-    reason="main's contact puts the force at the gap's deepest point, which jumps at the new "
-    "S1002's flange root (issue 28); passes with branch h5's patch centroid, not merged",
-    strict=False,
-)
 def test_new_profile_load_grows_and_does_not_jump(new_sweep):
     model, normal, force = new_sweep
     _load_grows(normal)
@@ -129,6 +124,5 @@ def test_worn_profile_load_grows_into_the_rail(worn_sweep):
     _load_grows(worn_sweep[1])
 
 
-@pytest.mark.xfail(strict=True, reason=DEFECT)
 def test_worn_profile_force_does_not_jump(worn_sweep):
     _no_jump(worn_sweep[0], worn_sweep[2])
