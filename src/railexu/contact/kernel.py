@@ -1005,6 +1005,9 @@ PATCH_STEP_MIN = 5.0e-5
 PATCH_STEP_MAX = 8.0e-4
 PATCH_STEP_SHARE = 0.2
 PATCH_MAX_STEPS = 400
+#: Bisections for the table's edge inside a patch (:func:`_patch_moments`): 2^-30 of a lattice
+#: step (below 1 nm).
+EDGE_BISECTIONS = 30
 #: Golden-section steps for the hump between two minima of a patch: 0.618^24 = 1e-5 of their
 #: distance (0.1 um over 10 mm), far below the +-step over which the hump's side is switched.
 HUMP_ITERATIONS = 24
@@ -1096,7 +1099,25 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
         f_prev = f_start
         for i in range(1, PATCH_MAX_STEPS + 1):
             s = (i0 + direction * i) * step
-            g = _gap_at(s, wtab, rtab, ctx)[0]
+            g, _dg, on_table = _gap_at(s, wtab, rtab, ctx)
+            if not on_table:
+                # the locus leaves the wheel's or the rail's table inside the patch: the load ends
+                # at the table's edge (found by bisection), not at the lattice node beyond it,
+                # which would make the patch jump by a cell as the edge passes a node
+                s_in = s_prev
+                s_out = s
+                for _ in range(EDGE_BISECTIONS):
+                    s_mid = 0.5 * (s_in + s_out)
+                    if _gap_at(s_mid, wtab, rtab, ctx)[2]:
+                        s_in = s_mid
+                    else:
+                        s_out = s_mid
+                f_edge = factor * (threshold - _gap_at(s_in, wtab, rtab, ctx)[0])
+                a0, a1, a2 = _cell_moments(s_prev, f_prev, s_in, f_edge)
+                m0 += a0
+                m1 += a1
+                m2 += a2
+                break
             w = threshold - g
             chi = factor
             stop = False
