@@ -1119,30 +1119,36 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
                 m2 += a2
                 break
             w = threshold - g
-            chi = factor
+            f = factor * w
             stop = False
             if not crossing:
                 stop = w <= 0.0
-            else:
-                # 0 before the hump, 1 past it (linear over +-step)
-                x = (direction * (s - hump_s) + step) / (2.0 * step)
-                x = min(1.0, max(0.0, x))
-                chi = factor * (1.0 - x * share)
-                if x >= 1.0:
-                    factor *= 1.0 - share
-                    crossing = False
-                    j = j + direction
-                    nb = j + direction
-                    stop = factor <= 0.0
-                    if not stop and 0 <= nb < n:
-                        hump = cand_h[min(j, nb)]
-                        if hump < threshold and cand_g[nb] < threshold:
-                            share = _neighbour_share(hump, cand_g[nb], threshold)
-                            lo = min(cand_s[j], cand_s[nb])
-                            hi = max(cand_s[j], cand_s[nb])
-                            hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
-                            crossing = True
-            f = chi * w
+            elif direction * (s - hump_s) >= 0.0:
+                # the cell holds the hump: the part beyond it counts with 1 - share, split
+                # exactly at the hump (a ramp over +-step about it counted up to half of the
+                # neighbour's side where share -> 1: a 15 kN jump of a tread patch as the hump
+                # passed its threshold)
+                f_hump = factor * (threshold - _gap_at(hump_s, wtab, rtab, ctx)[0])
+                a0, a1, a2 = _cell_moments(s_prev, f_prev, hump_s, f_hump)
+                m0 += a0
+                m1 += a1
+                m2 += a2
+                factor *= 1.0 - share
+                s_prev = hump_s
+                f_prev = (1.0 - share) * f_hump
+                f = factor * w
+                crossing = False
+                j = j + direction
+                nb = j + direction
+                stop = factor <= 0.0
+                if not stop and 0 <= nb < n:
+                    hump = cand_h[min(j, nb)]
+                    if hump < threshold and cand_g[nb] < threshold:
+                        share = _neighbour_share(hump, cand_g[nb], threshold)
+                        lo = min(cand_s[j], cand_s[nb])
+                        hi = max(cand_s[j], cand_s[nb])
+                        hump_s = _golden(lo, hi, wtab, rtab, ctx, -1.0, HUMP_ITERATIONS)
+                        crossing = True
             a0, a1, a2 = _cell_moments(s_prev, f_prev, s, f)
             m0 += a0
             m1 += a1
@@ -1181,12 +1187,13 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
     coach's flange root). On a circular rail head the normal at the centroid is the mean normal
     of the line load. A neighbouring minimum's side beyond the hump between them counts with the
     weight ``1 - share`` (:func:`_neighbour_share`: 0 while the two patches are separate, 1 when
-    the neighbour dies into this patch), switched over +-``step`` about the hump. For a Hertzian
-    patch (gap symmetric about the minimum) the centroid is the minimum within the quadrature's
-    error (of order ``step^2`` relative, ``step`` a fifth of the patch's half-width); a patch
-    with no load between lattice points is its minimum, with the variance 0. For a parabolic gap
-    ``g = -d + B s^2`` the variance is ``eps d / (5 B)`` (the line load ``eps d - B s^2``), from
-    which the caller bounds the patch's curvature (:func:`patch_curvature`).
+    the neighbour dies into this patch), from the hump on (the lattice cell that holds it split
+    there). For a Hertzian patch (gap symmetric about the minimum) the centroid is the minimum
+    within the quadrature's error (of order ``step^2`` relative, ``step`` a fifth of the patch's
+    half-width); a patch with no load between lattice points is its minimum, with the variance
+    0. For a parabolic gap ``g = -d + B s^2`` the variance is ``eps d / (5 B)`` (the line load
+    ``eps d - B s^2``), from which the caller bounds the patch's curvature
+    (:func:`patch_curvature`).
     """
     s_k = cand_s[k]
     level = math.log2(step / PATCH_STEP_MIN)
