@@ -1089,7 +1089,7 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
         nb = j + direction
         if 0 <= nb < n:
             hump = cand_h[min(j, nb)]
-            if hump < threshold and cand_g[nb] < threshold:
+            if not math.isnan(hump):  # both overlap: the hump bounds this side of the patch
                 share = _neighbour_share(hump, cand_g[nb], threshold)
                 lo = min(cand_s[j], cand_s[nb])
                 hi = max(cand_s[j], cand_s[nb])
@@ -1121,13 +1121,14 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
             w = threshold - g
             f = factor * w
             stop = False
-            if not crossing:
+            if not crossing or (share >= 1.0 and direction * (s - hump_s) < 0.0):
                 stop = w <= 0.0
-            elif direction * (s - hump_s) >= 0.0:
+            if crossing and not stop and direction * (s - hump_s) >= 0.0:
                 # the cell holds the hump: the part beyond it counts with 1 - share, split
-                # exactly at the hump (a ramp over +-step about it counted up to half of the
-                # neighbour's side where share -> 1: a 15 kN jump of a tread patch as the hump
-                # passed its threshold)
+                # exactly at the hump (share is 1 while the hump stands above the threshold: a
+                # hump poking above it between two lattice nodes, where both nodes are inside
+                # the load, must still end the patch; missing it counted the neighbour's whole
+                # side: a 15 kN jump of the EU07's tread patch in R 600 m)
                 f_hump = factor * (threshold - _gap_at(hump_s, wtab, rtab, ctx)[0])
                 a0, a1, a2 = _cell_moments(s_prev, f_prev, hump_s, f_hump)
                 m0 += a0
@@ -1143,7 +1144,7 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
                 stop = factor <= 0.0
                 if not stop and 0 <= nb < n:
                     hump = cand_h[min(j, nb)]
-                    if hump < threshold and cand_g[nb] < threshold:
+                    if not math.isnan(hump):
                         share = _neighbour_share(hump, cand_g[nb], threshold)
                         lo = min(cand_s[j], cand_s[nb])
                         hi = max(cand_s[j], cand_s[nb])
