@@ -27,8 +27,10 @@ b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and i
    (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
 c) *Normal force.* Each minimum is a patch (:func:`patch_centre`, issue 28): the force acts at
    the centroid of its load (virtual penetration, Kik and Piotrowski 2008), with the approach
-   along the normal there and Hertz's curvatures there (:mod:`railexu.contact.hertz`); so two
-   minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch.
+   along the normal there and Hertz's lateral curvature the minimum's, bounded by the one the
+   patch's load width implies (:func:`patch_curvature`; :mod:`railexu.contact.hertz`); so two
+   minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch,
+   and the minima of one valley share it by their weights (:func:`candidate_weights`).
    The damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
    negative.
