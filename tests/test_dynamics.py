@@ -123,7 +123,8 @@ def test_time_step_against_fine_reference():
     Asserted with margin: 0.1 % of the offset; after 0.5 s 2 % of the peak; over the run 10 % of
     the peak at 2 ms and 3 % at 1 ms, and the error at least 2 times smaller at 1 ms (convergence
     of at least first order: a step error, not a model change, is what the start-up difference
-    is)."""
+    is). The reference is interpolated to each run's output times: the 0.25 ms run's solver cuts
+    one step near 1.93 s, which shifts its later outputs by a fraction of its step."""
     vehicle = load_vehicle(VEHICLES / "eu07.yaml")
     common = dict(speed_m_per_s=10.0, distance_m=30.0, initial_lateral_m=0.002)
     coarse = run(vehicle, None, RunSettings(**common, output_interval_s=0.01))
@@ -138,16 +139,20 @@ def test_time_step_against_fine_reference():
     peak = max(np.max(np.abs(b[c])) for c in b.columns if c.endswith("_Y_N"))
     worst = {}
     for label, a in (("2 ms", coarse.timeseries), ("1 ms", half.timeseries)):
-        n = min(len(a), len(b))
-        np.testing.assert_allclose(a.time_s[:n], b.time_s[:n], atol=1e-9)
-        later = a.time_s[:n] >= 0.5
+        t = a.time_s[a.time_s <= b.time_s[-1]]
+        n = len(t)
+
+        def reference(col: str, t=t) -> np.ndarray:
+            return np.interp(t, b.time_s, b[col])
+
+        later = t >= 0.5
         worst[label] = 0.0
         for i in range(1, 5):
-            dy = np.max(np.abs(a[f"ws{i}_lateral_m"][:n] - b[f"ws{i}_lateral_m"][:n]))
+            dy = np.max(np.abs(a[f"ws{i}_lateral_m"][:n] - reference(f"ws{i}_lateral_m")))
             assert dy < 1e-3 * 0.002
             for side in ("left", "right"):
                 col = f"ws{i}_{side}_Y_N"
-                diff = np.abs(a[col][:n] - b[col][:n])
+                diff = np.abs(a[col][:n] - reference(col))
                 worst[label] = max(worst[label], float(np.max(diff)))
                 assert np.max(diff[later]) < 0.02 * peak
     assert worst["2 ms"] < 0.10 * peak
