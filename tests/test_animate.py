@@ -185,12 +185,15 @@ def test_wheel_totals_are_kept(bogie_run):
 def test_contact_ellipse_scales_as_hertz(bogie_run):
     """The file scales the kernel's ellipse to the recorded load with a, b ~ N^(1/3) (Hertz);
     the kernel must agree: the same tread contact at 8 times the load has ellipses twice as
-    large (the contact point moves a little with the penetration: 2 %)."""
+    large (the contact point moves a little with the penetration: 2 %). At 3 mm lateral, where
+    each wheel has one Hertz-like patch (``test_contact_halfspace_centre.py``); at 1 mm the
+    160 kN patch spans the flat two-point valley and is not Hertzian (the kernel bounds its
+    curvature by the patch's width, issue 28: 1.63 instead of 2)."""
     result, _ = bogie_run
     cm = WheelsetContactModel(result.model.geometries[0], result.model.contact_params, 45.0)
     sizes = []
     for load in (20e3, 160e3):
-        st = press_wheelset(cm, 0.001, 0.0, (load, load))
+        st = press_wheelset(cm, 0.003, 0.0, (load, load))
         pts = [p for p in cm.evaluate(st.lateral_m, st.vertical_m, st.roll_rad, 0.0).points
                if p.side == "left" and p.loaded]  # fmt: skip
         assert len(pts) == 1

@@ -314,9 +314,7 @@ def wear_loop(
                     f"({'; '.join(rates['bad'])})")  # fmt: skip
             result.steps.pop()
             step -= 1
-            profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
-            total = last["total"]
-            rates, depth_limit = last["rates"], 0.5 * last["depth"]
+            profiles, current, mileage, total, rates, depth_limit = _state_before(last)
             rejected += 1
             log(f"step {step + 1} {note}")
         elif last is not None and control:
@@ -328,9 +326,7 @@ def wear_loop(
                 # the rate changed too much over the last step: make it again with half the depth
                 result.steps.pop()
                 step -= 1
-                profiles, current, mileage = last["profiles"], last["current"], last["mileage"]
-                total = last["total"]
-                rates, depth_limit = last["rates"], 0.5 * last["depth"]
+                profiles, current, mileage, total, rates, depth_limit = _state_before(last)
                 rejected += 1
                 log(f"step {step + 1} made again with half the depth "
                     f"({depth_limit * 1e3:.4g} mm): the largest wear rate changed by a factor "
@@ -508,3 +504,10 @@ def _atomic(path: Path, text: str) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
+
+
+def _state_before(last: dict) -> tuple:
+    """The loop's state before its last step (profiles, current, mileage, total, rates) and
+    half that step's depth [m]: the step made again."""
+    return (last["profiles"], last["current"], last["mileage"], last["total"], last["rates"],
+            0.5 * last["depth"])  # fmt: skip
