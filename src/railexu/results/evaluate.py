@@ -10,7 +10,7 @@ in :mod:`railexu.assessment`.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -266,6 +266,7 @@ def summarize(
     hunting_threshold_m: float = 1.0e-3,
     flange_contact_angle_rad: float = FLANGE_CONTACT_ANGLE_RAD,
     flange_height_m: float | None = None,
+    comfort_points: Sequence[str] | None = None,
 ) -> RunSummary:
     """Assess a run: every criterion of :class:`RunSummary` over the evaluation window.
 
@@ -294,6 +295,9 @@ def summarize(
             :data:`railexu.assessment.safety.MIN_FLANGE_HEIGHT_M` the wheel has no flange:
             no Nadal limit and the flange-climb criterion not applicable (None: unknown, a
             flange assumed).
+        comfort_points: the measurement points where ride comfort is evaluated (the car
+            body's: :attr:`railexu.vehicle.vehicle.Vehicle.car_body_points`); None: every
+            recorded point.
 
     Raises:
         ResultsError: wheelset names or static axle loads do not match the wheelsets, or the
@@ -328,7 +332,7 @@ def summarize(
         stability,
         _oscillations(run, indices, flange_contact_angle_rad),
     )
-    comfort, note = _comfort(run)
+    comfort, note = _comfort(run, comfort_points)
     x, start, end = run.x, run.start, run.end
     return RunSummary(
         status=dict(status),
@@ -450,10 +454,11 @@ def _axle_forces(
     return sum_y, raw
 
 
-def _comfort(run: _Run) -> tuple[dict[str, PointComfort], str]:
-    """EN 12299 and Sperling at every measurement point, and a note on the record's length."""
+def _comfort(run: _Run, only: Sequence[str] | None = None) -> tuple[dict[str, PointComfort], str]:
+    """EN 12299 and Sperling at every recorded measurement point (of ``only`` if given: the car
+    body's; a bogie frame's is not a ride), and a note on the record's length."""
     ts, fs, inside = run.ts, run.fs, run.inside
-    points = ts.measurement_points()
+    points = [p for p in ts.measurement_points() if only is None or p in only]
     if not points:
         return {}, "no accelerations recorded (columns <point>_acc_y_m_per_s2, _acc_z_m_per_s2)"
     out = {}

@@ -110,7 +110,8 @@ class AssessmentInputs:
     track_irregular: bool
     alignment: Alignment | None  # curved track only
     flange_height_m: float | None = None  # flange tip above the tape circle (first wheel)
-    placements: tuple = ()  # measurement points (results.transition_comfort.PointPlacement)
+    placements: tuple = ()  # car-body points (results.transition_comfort.PointPlacement)
+    comfort_points: tuple[str, ...] | None = None  # the car body's points; None: every point
     sc_zone_m: tuple[float, float] | None = None  # a switch-and-crossing zone (issue 29)
 
 
@@ -132,13 +133,14 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         alignment=model.alignment if model.curved else None,
         flange_height_m=_flange_height_m(model),
         placements=_placements(vehicle, order),
+        comfort_points=vehicle.car_body_points,
         sc_zone_m=None if rails is None else rails.zone_m(),
     )
 
 
 def _placements(vehicle, order: list[int]) -> tuple:
-    """Each measurement point's body and its and the body's distance behind the leading
-    wheelset (m), for the curve-transition comfort."""
+    """Each car-body measurement point's body and its and the body's distance behind the
+    leading wheelset (m), for the curve-transition comfort (not the bogie frames' points)."""
     from railexu.results.transition_comfort import PointPlacement
 
     lead = vehicle.wheelsets[order[0]].position_x_m if order else 0.0
@@ -146,7 +148,7 @@ def _placements(vehicle, order: list[int]) -> tuple:
     return tuple(
         PointPlacement(p.name, p.body, lead - p.position_m[0], lead - bodies[p.body])
         for p in vehicle.measurement_points
-        if p.body in bodies
+        if p.body in bodies and p.name in vehicle.car_body_points
     )
 
 
@@ -183,6 +185,7 @@ def summarize_run(
         evaluate_to_m=inputs.evaluate_to_m,
         track_irregular=inputs.track_irregular,
         flange_height_m=inputs.flange_height_m,
+        comfort_points=inputs.comfort_points,
     )
     state = summary.state_with_exceedances(status["state"])
     if state != status["state"]:

@@ -355,7 +355,10 @@ MEASUREMENT_POINT = Schema(
     "A point whose lateral and vertical accelerations are recorded (ride comfort, EN 12299); "
     "by name under `measurement_points:`. Default: on the floor (1.2 m above the rails) of the "
     "first body, above each bogie pivot (`body_front`, `body_rear`) and at its centre "
-    "(`body_centre`).",
+    "(`body_centre`); and on each bogie frame (a body other than the first that carries "
+    "wheelsets) above its outermost wheelsets at the frame's centre height "
+    "(`<frame>_above_<wheelset>`: EN 14363's simplified measuring method). Ride comfort "
+    "(EN 12299) is evaluated at the points on the car body (the heaviest body) only.",
 )  # fmt: skip
 
 #: Height of the default measurement points above the top of the rails [m]: a typical floor
@@ -392,7 +395,8 @@ VEHICLE = Schema(
               default={}, models=ELEMENTS, selector="type"),
         Field("loads", "constant external forces, by name", "named", default={}, schema=LOAD),
         Field("measurement_points", "points whose accelerations are recorded, by name "
-              "(default: the car body floor above each pivot and at the centre)", "named",
+              "(default: the car body floor above each pivot and at the centre, and each bogie "
+              "frame above its outermost wheelsets)", "named",
               default={}, schema=MEASUREMENT_POINT),
     ),
     "The top level of a vehicle file.",

@@ -87,6 +87,12 @@ __all__ = [
 ]
 
 
+def heaviest_body(bodies: Iterable[Body]) -> str | None:
+    """The car body by railexu's rule: the name of the heaviest body (None: no body)."""
+    bodies = list(bodies)
+    return max(bodies, key=lambda b: b.mass_kg).name if bodies else None
+
+
 @dataclass(frozen=True)
 class Vehicle:
     """A validated vehicle.
@@ -124,6 +130,18 @@ class Vehicle:
     def total_mass_kg(self) -> float:
         """Mass of every body and wheelset [kg] (external loads not included)."""
         return sum(b.mass_kg for b in self.bodies) + sum(w.mass_kg for w in self.wheelsets)
+
+    @property
+    def car_body(self) -> str | None:
+        """The car body: the heaviest body (railexu's rule), None for wheelsets alone."""
+        return heaviest_body(self.bodies)
+
+    @property
+    def car_body_points(self) -> tuple[str, ...]:
+        """The measurement points on the car body: where ride comfort (EN 12299) and the car
+        body's accelerations (EN 14363) are evaluated; points on bogie frames are not."""
+        car = self.car_body
+        return tuple(p.name for p in self.measurement_points if p.body == car)
 
     def wheelset(self, name: str) -> Wheelset:
         return next(w for w in self.wheelsets if w.name == name)
@@ -257,7 +275,7 @@ def vehicle_from_dict(
         category=VEHICLE.read(top, "category"),
         admissible_speed_m_per_s=VEHICLE.read(top, "admissible_speed"),
         admissible_cant_deficiency_m=VEHICLE.read(top, "admissible_cant_deficiency"),
-        measurement_points=_measurement_points(top, names, bodies, wheelsets),
+        measurement_points=_measurement_points(top, names, bodies, wheelsets, suspension),
         source=source,
         raw=data,
         lines=lines,
@@ -268,10 +286,15 @@ def vehicle_from_dict(
 
 
 def _measurement_points(
-    top: Section, names: list[str], bodies: list[Body], wheelsets: list[Wheelset]
+    top: Section,
+    names: list[str],
+    bodies: list[Body],
+    wheelsets: list[Wheelset],
+    suspension: list[SuspensionElement],
 ) -> tuple[MeasurementPoint, ...]:
     """The named points of the file, or the defaults: on the floor of the first body (the car
-    body) above each bogie (the other bodies' x) and at its centre; none for a vehicle without
+    body) above each bogie (the other bodies' x) and at its centre, and on each bogie frame
+    above its outermost wheelsets (:func:`_bogie_frame_points`); none for a vehicle without
     bodies (a wheelset alone)."""
     points = []
     for name, _ in top.items("measurement_points", False):
@@ -288,7 +311,26 @@ def _measurement_points(
         w.position_x_m for w in (wheelsets[0], wheelsets[-1])
     ]
     defaults = [("body_front", pivots[0]), ("body_centre", x0), ("body_rear", pivots[-1])]
-    return tuple(MeasurementPoint(n, car.name, (x, 0.0, z)) for n, x in defaults)
+    on_car = [MeasurementPoint(n, car.name, (x, 0.0, z)) for n, x in defaults]
+    return tuple(on_car) + _bogie_frame_points(bodies[1:], wheelsets, suspension)
+
+
+def _bogie_frame_points(
+    frames: list[Body], wheelsets: list[Wheelset], suspension: list[SuspensionElement]
+) -> tuple[MeasurementPoint, ...]:
+    """Default points of EN 14363's simplified measuring method: on each body other than the
+    first that carries wheelsets directly (a bogie frame), above its outermost wheelsets, at
+    the frame's centre height on its centre line (the height and lateral place on the frame
+    are railexu's choice); named ``<frame>_above_<wheelset>``."""
+    positions = {w.name: w.position_x_m for w in wheelsets}
+    out = []
+    for frame in frames:
+        carried = {b for el in suspension if frame.name in el.bodies for b in el.bodies}
+        ends = sorted(carried & positions.keys(), key=lambda w: -positions[w])
+        for ws in dict.fromkeys(ends[:1] + ends[-1:]):
+            xyz = (positions[ws], frame.position_m[1], frame.position_m[2])
+            out.append(MeasurementPoint(f"{frame.name}_above_{ws}", frame.name, xyz))
+    return tuple(out)
 
 
 def _body(sec: Section, name: Any) -> Body:
