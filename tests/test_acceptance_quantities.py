@@ -98,6 +98,16 @@ def test_wheel_force_quantities_against_hand_values(curve_values):
     assert v["Q_qst"] == pytest.approx(Q0 + 10e3, rel=1e-9)
 
 
+def test_the_rms_of_sum_y_is_the_band_of_its_oscillation(curve_values):
+    """Normal method's instability criterion: each axle's sum Y is 30 i - 10 kN plus a 5 kN
+    wave of 2 m wavelength, 10 Hz at 20 m/s; the band of the largest rms holds it (the gain of
+    the order-4 band pass 8-12 Hz at 10 Hz is 0.996, of 7.5-11.5 Hz 0.9996) and removes the
+    constant, so the 100 m sliding rms is 5 kN / sqrt 2 (1 %)."""
+    assert curve_values.values["sum_Y_rms"] == pytest.approx(5e3 / math.sqrt(2.0), rel=0.01)
+    how = curve_values.processing["sum_Y_rms"]
+    assert "running stability" in how.clause and "100 m sliding rms" in how.window
+
+
 def test_car_body_and_bogie_frame_accelerations_against_hand_values(curve_values):
     v = curve_values.values
     assert v["car_body_acc_y_max"] == pytest.approx(0.8 * P9985, rel=1e-4)

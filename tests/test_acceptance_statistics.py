@@ -204,3 +204,32 @@ def test_zone_limits_take_the_zone_conditions_and_flag_y_over_q_below_250_m():
     assert limits["Y_qst"].value == pytest.approx(65e3)
     assert limits["Y_over_Q_2m"].assumption and "below 250 m" in limits["Y_over_Q_2m"].rule
     assert "bogie_frame_acc_y_max" not in limits  # one body only: no bogie frame
+
+
+def test_running_stability_takes_the_largest_section_and_the_other_method_informs():
+    """The instability criteria are judged in every section (the largest section value, no
+    mean + k s); with ``stability_method: normal`` the simplified method's bogie-frame values
+    are reported with their limit but do not decide (and the reverse)."""
+    rms = [12e3, 29e3, 10e3, 23e3, 15e3]  # N; limit (sum Y_2m)_lim / 2 = (10 + 200/3) / 2 kN
+    frame = [2.0, 4.5, 1.8, 3.0, 2.2]  # m/s^2; limit (12 - 16.8 / 5) / 2 = 4.32 m/s^2
+    svs = [_section_values({"sum_Y_rms": r, "bogie_frame_acc_y_rms": f}, i, 0.0, 1e4)
+           for i, (r, f) in enumerate(zip(rms, frame, strict=True))]  # fmt: skip
+    limits = limits_for("locomotive", 100e3, bogie_mass_kg=16.8e3)
+    assert limits["sum_Y_rms"].value == pytest.approx(0.5 * (10e3 + 200e3 / 3.0), rel=1e-12)
+    normal = evaluate_zone(_zone("one_dimensional", 5, kind="straight"), svs, limits)
+    c = normal.criteria["sum_Y_rms"]
+    assert c.value == 29e3 and c.method == "largest_section_value"
+    assert c.details["section"] == "s1" and c.passed is True
+    b = normal.criteria["bogie_frame_acc_y_rms"]
+    assert b.value == 4.5 and b.passed is None and b.details["within_limit"] is False
+    assert "informative" in b.note and normal.passed is True
+    simplified = evaluate_zone(
+        _zone("one_dimensional", 5, kind="straight", stability_method="simplified"), svs, limits
+    )
+    assert simplified.criteria["bogie_frame_acc_y_rms"].passed is False
+    assert simplified.criteria["sum_Y_rms"].passed is None and simplified.passed is False
+    both = evaluate_zone(
+        _zone("one_dimensional", 5, kind="straight", stability_method="both"), svs, limits
+    )
+    assert both.criteria["sum_Y_rms"].passed is True
+    assert both.criteria["bogie_frame_acc_y_rms"].passed is False

@@ -88,12 +88,15 @@ def _panel(ax, crit: str, c: dict, zone: dict) -> None:
     elif "mean" in details:
         ax.axhline(details["mean"] * factor, color="tab:blue", lw=0.8, ls=":", label="mean")
     if c.get("value") is not None:
+        what = "largest" if c.get("method") == "largest_section_value" else "estimate"
         ax.axhline(c["value"] * factor, color="tab:green", lw=1.2,
-                   label=f"estimate {c['value'] * factor:.3g}")  # fmt: skip
+                   label=f"{what} {c['value'] * factor:.3g}")  # fmt: skip
     if c.get("limit") is not None:
         ax.axhline(c["limit"] * factor, color="tab:red", lw=1.2, ls="--",
                    label=f"limit {c['limit'] * factor:.3g}")  # fmt: skip
     verdict = {True: "pass", False: "FAIL", None: "-"}[c.get("pass")]
+    if c.get("pass") is None and details.get("within_limit") is not None:
+        verdict = "informative"  # the other measuring method's criterion: not judged
     ax.set_title(f"{crit}: {verdict}", fontsize=9)
     ax.set_xlabel(label, fontsize=8)
     ax.set_ylabel(f"{crit} [{unit}]", fontsize=8)

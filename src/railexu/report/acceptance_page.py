@@ -154,6 +154,9 @@ def _zone_html(name: str, zone: dict, escape, table, raw) -> str:
             False: raw('<span class="fail">fail</span>'),
             None: "-",
         }[c.get("pass")]
+        within = (c.get("details") or {}).get("within_limit")
+        if c.get("pass") is None and within is not None:  # reported, not judged
+            verdict = "informative: " + ("within the limit" if within else "above the limit")
         rows.append((
             crit, _scaled(c.get("value"), factor), _scaled(c.get("limit"), factor), unit,
             verdict, c.get("method", ""), "yes" if c.get("assumption") else "",

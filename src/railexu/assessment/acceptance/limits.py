@@ -15,6 +15,8 @@ Formulas (forces in kN where the standard writes kN; converted to N here):
 - track-shifting force ``(sum Y_2m)_lim = alpha (10 + 2 Q0 / 3)`` kN (Prud'homme), ``alpha`` = 1
   for locomotives, power heads, coaches and multiple units, 0.85 for freight wagons
   (:data:`railexu.assessment.en14363.ALPHA`);
+- running stability (normal method, instability criterion): the rms of sum Y at most half the
+  track-shifting limit, ``(sum Y_2m)_lim / 2``;
 - derailment quotient ``(Y/Q)_lim = 0.8`` for curves of radius >= 250 m;
 - quasi-static guiding force ``Y_qst,lim = 30 + 10500 / R_m`` kN (``R_m`` the zone's mean
   radius in m; 60 kN at 350 m);
@@ -156,6 +158,11 @@ def limits_for(
         f"{STANDARD}, running safety: track-shifting force (Prud'homme)",
         f"alpha (10 kN + 2 Q0 / 3), alpha = {alpha:g} ({category}), "
         f"Q0 = {static_wheel_load_N / KN:.2f} kN",
+    )  # fmt: skip
+    out["sum_Y_rms"] = Limit(
+        "sum_Y_rms", 0.5 * out["sum_Y_2m"].value, "N",
+        f"{STANDARD}, normal measuring method: running stability (instability criterion)",
+        f"(sum Y_2m)_lim / 2 = {0.5 * out['sum_Y_2m'].value / KN:.2f} kN",
     )  # fmt: skip
     out["Y_over_Q_2m"] = Limit(
         "Y_over_Q_2m", Y_OVER_Q_LIMIT, "1", f"{STANDARD}, running safety: derailment quotient",

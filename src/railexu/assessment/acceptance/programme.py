@@ -54,6 +54,9 @@ TRANSITION_MIN_M = 10.0
 PHI = (math.sqrt(5.0) - 1.0) / 2.0
 METHODS = ("one_dimensional", "two_dimensional")
 REGRESSORS = ("cant_deficiency", "curvature")
+#: EN 14363's measuring methods whose running-stability criteria a programme judges: the
+#: normal method (rms of sum Y) and the simplified method (the bogie frame's acceleration).
+STABILITY_METHODS = ("normal", "simplified", "both")
 #: Units of the limits a programme may set (``limits:``), by quantity name.
 LIMIT_UNITS = {
     "sum_Y_2m": "N", "Y_over_Q_2m": "1", "Q_max": "N", "Y_qst": "N", "Q_qst": "N",
@@ -163,6 +166,10 @@ STATISTICS = Schema(
               "zone's mean radius R_m) or `evaluation` (the radius of `evaluate_at`, where the "
               "estimate is taken); railexu could not confirm the 2016 edition's reading",
               "text", default="mean", choices=("mean", "evaluation")),
+        Field("stability_method", "the measuring method whose criteria judge running "
+              "stability: `normal` (the rms of sum Y), `simplified` (the bogie frame's lateral "
+              "acceleration, peak and rms) or `both`; the other method's values are reported, "
+              "not judged", "text", default="normal", choices=STABILITY_METHODS),
     ),
     "Parameters of the statistical evaluation.",
 )  # fmt: skip
@@ -275,6 +282,7 @@ class Zone:
     prediction_quantile: float = 0.95
     statistics_assumption: bool = True
     y_qst_limit_radius: str = "mean"
+    stability_method: str = "normal"
     seed: int = 1
     reduced: bool = False
     description: str = ""
@@ -424,6 +432,7 @@ def _zone(name: str, sec: Section, stats: dict, quick: bool) -> Zone:
         prediction_quantile=stats["prediction_quantile"],
         statistics_assumption=stats["assumption"],
         y_qst_limit_radius=stats["y_qst_limit_radius"],
+        stability_method=stats["stability_method"],
         transition_cant_gradient_max=v["transition_cant_gradient_max"],
         transition_cant_rate_max_m_per_s=v["transition_cant_rate_max"],
         transition_cant_deficiency_rate_max_m_per_s=v["transition_cant_deficiency_rate_max"],

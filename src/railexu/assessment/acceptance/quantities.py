@@ -13,6 +13,10 @@ Quantities (``values`` keys; forces in N, accelerations in m/s^2):
                              low-passed at 20 Hz, flanging wheel positive; largest wheel
 ``sum_Y_2m``                 larger magnitude of the 0.15 % and 99.85 % values of the 2 m means
                              of sum Y (20 Hz); largest axle
+``sum_Y_rms``                normal method, running stability: sum Y band-passed at
+                             ``f0 +- 2 Hz``, largest rms over 100 m windows in 10 m steps (the
+                             whole window if shorter: railexu); f0 the band of the largest rms
+                             in 1-10 Hz (railexu, as for the bogie frame); largest axle
 ``Q_max``                    99.85 % of the wheel force Q (20 Hz); largest wheel
 ``Y_qst``                    curves: 50 % of the outer wheel's Y towards the curve centre
                              (20 Hz); largest wheelset (the rule of
@@ -200,6 +204,7 @@ def section_values(ts, vehicle, section: SectionSpec) -> SectionValues:
     out = _Builder()
     q0 = static_wheel_load_N(vehicle)
     _wheel_forces(out, sig, wheelsets, q0, section)
+    _sum_y_stability(out, sig, wheelsets)
     _car_body(out, sig, [p for p in car if f"{p}_acc_y_m_per_s2" in ts], section)
     _bogie_frames(out, sig, [p for p in bogies if f"{p}_acc_y_m_per_s2" in ts])
     return SectionValues(section, out.values, out.units, out.processing, window,
@@ -315,6 +320,39 @@ def _wheel_forces(out: _Builder, sig: _Signals, wheelsets: list[int], q0: float,
             where))  # fmt: skip
 
 
+def _sum_y_stability(out: _Builder, sig: _Signals, wheelsets: list[int]) -> None:
+    """``sum_Y_rms``: EN 14363's instability criterion of the normal measuring method, the
+    axle's sum Y (unfiltered but for the band) band-passed at ``f0 +- 2 Hz`` and its sliding rms
+    (as :func:`railexu.assessment.en14363.running_stability_criterion`, but with f0 the band of
+    the largest rms, the rule of the bogie frame's ``s(y+)``: no detected frequency needed)."""
+    rms, bands = {}, {}
+    for i in wheelsets:
+        found = _worst_band_rms(sig, sig.raw[f"ws{i}_left_Y_N"] + sig.raw[f"ws{i}_right_Y_N"])
+        if found is not None:
+            rms[f"ws{i}"], bands[f"ws{i}"] = found
+    value, where = _largest(rms)
+    if value is None:
+        out.skip("sum_Y_rms", "N", _NO_BAND)
+        return
+    out.add("sum_Y_rms", value, "N", Processing(
+        _band_text(bands[where]), _SLIDING_RMS, "largest rms, largest axle",
+        f"{STANDARD}, normal measuring method: running stability (instability criterion)",
+        where))  # fmt: skip
+
+
+_NO_BAND = (f"no band f0 +- 2 Hz with f0 in {BOGIE_F0_SEARCH_HZ[0]:g}-{BOGIE_F0_SEARCH_HZ[1]:g} "
+            "Hz fits below the Nyquist frequency")  # fmt: skip
+_SLIDING_RMS = (f"{STABILITY_WINDOW_M:g} m sliding rms in {STABILITY_STEP_M:g} m steps (the "
+                "whole window if shorter: railexu)")  # fmt: skip
+
+
+def _band_text(edges: tuple[float, float]) -> str:
+    return (f"Butterworth band pass f0 +- {STABILITY_HALF_BAND_HZ:g} Hz, f0 the band of the "
+            f"largest rms in {BOGIE_F0_SEARCH_HZ[0]:g}-{BOGIE_F0_SEARCH_HZ[1]:g} Hz "
+            f"({BOGIE_F0_STEP_HZ:g} Hz steps, railexu): {edges[0]:.2f}-{edges[1]:.2f} Hz "
+            "(zero phase)")  # fmt: skip
+
+
 def _car_body(out: _Builder, sig: _Signals, points: list[str], section) -> None:
     names = [f"car_body_acc_{d}_{s}" for d in "yz" for s in ("max", "rms")]
     names.append("car_body_acc_y_qst")
@@ -377,18 +415,10 @@ def _bogie_frames(out: _Builder, sig: _Signals, points: list[str]) -> None:
         "largest magnitude, largest bogie point", clause, where))  # fmt: skip
     value, where = _largest(rms)
     if value is None:
-        out.skip("bogie_frame_acc_y_rms", "m/s^2", "no band f0 +- 2 Hz with f0 in "
-                 f"{BOGIE_F0_SEARCH_HZ[0]:g}-{BOGIE_F0_SEARCH_HZ[1]:g} Hz fits below the "
-                 "Nyquist frequency")  # fmt: skip
+        out.skip("bogie_frame_acc_y_rms", "m/s^2", _NO_BAND)
         return
-    edges = bands[where]
     out.add("bogie_frame_acc_y_rms", value, "m/s^2", Processing(
-        f"Butterworth band pass f0 +- {STABILITY_HALF_BAND_HZ:g} Hz, f0 the band of the "
-        f"largest rms in {BOGIE_F0_SEARCH_HZ[0]:g}-{BOGIE_F0_SEARCH_HZ[1]:g} Hz "
-        f"({BOGIE_F0_STEP_HZ:g} Hz steps, railexu): {edges[0]:.2f}-{edges[1]:.2f} Hz "
-        "(zero phase)",
-        f"{STABILITY_WINDOW_M:g} m sliding rms in {STABILITY_STEP_M:g} m steps (the whole "
-        "window if shorter: railexu)", "largest rms, largest bogie point", clause,
+        _band_text(bands[where]), _SLIDING_RMS, "largest rms, largest bogie point", clause,
         where))  # fmt: skip
 
 

@@ -22,6 +22,13 @@ value* combines them:
 Quasi-static quantities (``Y_qst``, ``Q_qst``, the car body's quasi-static lateral
 acceleration) are estimated without the dispersion term (the mean, or the regression at ``x0``):
 they describe the curving itself, not its scatter (railexu's reading, stated in each result).
+
+The running-stability criteria (the rms of sum Y of the normal measuring method, the rms of the
+bogie frame's lateral acceleration of the simplified method) take the **largest section value**:
+an instability is judged where it occurs, in any section, not as a zone's statistical estimate
+(railexu's reading of EN 14363's stability assessment, stated in each result). Which method's
+criteria decide is the programme's ``statistics.stability_method``; the other method's are
+**informative**: value and limit reported, ``pass`` None, ``details.within_limit`` set.
 """
 
 from __future__ import annotations
@@ -46,6 +53,13 @@ QUASI_STATIC = ("Y_qst", "Q_qst", "car_body_acc_y_qst")
 #: Quantities of the ride characteristics (k of ride); every other one uses k of safety.
 RIDE = ("car_body_acc_y_max", "car_body_acc_z_max", "car_body_acc_y_rms", "car_body_acc_z_rms")
 CLAUSE = f"{STANDARD}, statistical evaluation of the test zones"
+#: Running-stability criteria: the largest section value, no statistics (see the module doc).
+STABILITY = ("sum_Y_rms", "bogie_frame_acc_y_rms")
+#: The criteria of each measuring method that only it judges (``stability_method``).
+METHOD_ONLY = {
+    "normal": ("sum_Y_rms",),
+    "simplified": ("bogie_frame_acc_y_max", "bogie_frame_acc_y_rms"),
+}
 
 
 class AcceptanceError(InputError):
@@ -227,7 +241,14 @@ def _criterion(zone: Zone, name: str, svs: Sequence[SectionValues], limit: Limit
                                note=f"not evaluated: no section has a value ({why or 'NaN'})",
                                **base)  # fmt: skip
     try:
-        if zone.method == "one_dimensional":
+        if name in STABILITY:
+            k_max = int(np.nanargmax(values))
+            value, details = float(values[k_max]), {
+                "rule": "largest section value: an instability is judged in every section, "
+                "not statistically (railexu's reading)", "section": svs[k_max].section.name,
+                "n": len(used)}  # fmt: skip
+            base["method"] = "largest_section_value"
+        elif zone.method == "one_dimensional":
             est = one_dimensional(values, k, zone.min_sections)
             value, details = est.estimate, {"mean": est.mean, "std": est.std, "k": est.k,
                                             "n": est.n, "rule": "mean + k std"}  # fmt: skip
@@ -248,8 +269,22 @@ def _criterion(zone: Zone, name: str, svs: Sequence[SectionValues], limit: Limit
     if quasi:
         details["note"] = "quasi-static quantity: no dispersion term (railexu's reading)"
     passed = None if limit is None else bool(value <= limit.value)
+    note = ""
+    if _informative(zone, name):
+        details["within_limit"], passed = passed, None
+        note = (
+            f"informative: the programme judges running stability by the "
+            f"{zone.stability_method} measuring method (statistics.stability_method)"
+        )
     return CriterionResult(value=float(value), passed=passed, clause=clause,
-                           assumption=assumption, details=details, **base)  # fmt: skip
+                           assumption=assumption, details=details, note=note,
+                           **base)  # fmt: skip
+
+
+def _informative(zone: Zone, name: str) -> bool:
+    """The criterion belongs to a measuring method the programme does not judge by."""
+    method = getattr(zone, "stability_method", "normal")
+    return any(name in names for m, names in METHOD_ONLY.items() if method not in (m, "both"))
 
 
 def _finite(values: ArrayLike) -> np.ndarray:
