@@ -84,8 +84,9 @@ def decide(data: dict) -> dict[str, Any]:
         for crit, c in zone.get("criteria", {}).items():
             where = f"{name}: {crit}"
             if c.get("pass") is False:
-                failed.append(f"{where} {_num(c.get('value'))} > {_num(c.get('limit'))} "
-                              f"{c.get('unit', '')} ({c.get('clause', '')})")  # fmt: skip
+                unit = c.get("unit", "")
+                value, limit = _quantity(c.get("value"), unit), _quantity(c.get("limit"), unit)
+                failed.append(f"{where} {value} > {limit} ({c.get('clause', '')})")
             if c.get("assumption") and c.get("pass") is not None:
                 assumptions.append(where)
     for test in ("twist_test", "yaw_resistance_test"):
@@ -190,6 +191,14 @@ def _conditions(zone) -> dict:
     return {k: v for k, v in d.items() if k != "description"} | {
         "description": getattr(zone, "description", "")
     }
+
+
+def _quantity(value: Any, unit: str) -> str:
+    """A value with its unit as an engineer reads it: forces in kN (``42.41 kN``), others with
+    four significant digits."""
+    if unit == "N" and isinstance(value, int | float) and math.isfinite(value):
+        return f"{value / 1e3:.2f} kN"
+    return f"{_num(value)} {unit}".rstrip() if unit not in ("", "1") else _num(value)
 
 
 def _num(value: Any) -> str:
