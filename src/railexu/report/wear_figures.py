@@ -1,6 +1,7 @@
 """Figures of the wear loop (docs/wear.md): the profile sequence of every wheel and the flange
 measures, the conicity and the removed area against the mileage, from the loop's folder
-(``steps.csv`` and ``step_NNN/profiles/``)."""
+(``steps.csv`` and each step's accepted profiles, its ``profiles_folder``: ``step_NNN/profiles/``
+or, for a step made again, ``step_NNN/profiles_again1/`` ...)."""
 
 from __future__ import annotations
 
@@ -28,7 +29,20 @@ def read_steps(out: str | Path) -> dict[str, np.ndarray]:
     return cols
 
 
+def _profile_folders(out: Path) -> dict[int, str]:
+    """Each step's accepted profile folder (``steps.csv``'s ``profiles_folder``; the first
+    attempt's ``step_NNN/profiles`` for a loop written before that column)."""
+    with open(out / "steps.csv", newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    folders = {}
+    for r in rows:
+        k = int(float(r["step"]))
+        folders[k] = r.get("profiles_folder") or f"step_{k:03d}/profiles"
+    return folders
+
+
 def _profile_sequence(out: Path, steps: np.ndarray, wheels: list[str], first: dict) -> Path:
+    folders = _profile_folders(out)
     fig = new_figure(figsize=(10, 3.2 * len(wheels)))
     for j, key in enumerate(wheels):
         ax, ax2 = (
@@ -38,7 +52,7 @@ def _profile_sequence(out: Path, steps: np.ndarray, wheels: list[str], first: di
         new = wheel_profile(first[key])
         s = np.linspace(new.lateral_m[0], new.lateral_m[-1], 1500)
         for k in steps.astype(int):
-            path = out / f"step_{k:03d}" / "profiles" / f"{key}.txt"
+            path = out / folders.get(k, f"step_{k:03d}/profiles") / f"{key}.txt"
             if k == 0 or not path.is_file():
                 continue
             p = wheel_profile(path)
