@@ -371,7 +371,8 @@ def wear_loop(
                "status": _step_status(rates["again"], note), "steps_made_again": rejected,
                "min_time_step_ms": rates["min_time_step_s"] * 1e3,
                "cases_run_again": "; ".join(rates["again"]), "folder": rates["folder"],
-               "profiles_folder": profiles_dir.relative_to(out).as_posix()}  # fmt: skip
+               "profiles_folder": profiles_dir.relative_to(out).as_posix(),
+               **rates["rcf"]}  # fmt: skip
         note = ""
         new, total = {}, dict(total)
         for key, _, _ in keys:
@@ -477,6 +478,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
            for k, _, _ in keys}  # fmt: skip
     smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
     return {
+        "rcf": _route_rcf(cases, keys),
         "smooth": smooth,
         "vol": vol,
         "peak": max(float(d.max()) for d in smooth.values()),
@@ -486,6 +488,34 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "y": grid[0] + grid[1] * np.arange(int(grid[2])),
         "folder": folder,
     }
+
+
+def _route_rcf(cases: dict, keys: list) -> dict:
+    """The route's RCF and rail wear of a step's rates (docs/wear.md, "RCF and rail wear per
+    step"): per wheel the largest FI_surf of any case [-] and the WLRM damage per km
+    (share-weighted over the cases, like the depth) [1/km]; per rail (the rail under the
+    vehicle's left or right wheels) the removed area per axle passage [um^2] and the WLRM
+    damage per axle passage [-], each share-weighted over the cases and averaged over the
+    vehicle's axles."""
+    from railexu.results.wear import RAIL_GRID
+
+    row: dict[str, float] = {}
+    for k, _, _ in keys:
+        fi = [json.loads(str(r[f"{k}_summary"]))["fi_surf_max"] for r in cases.values()]
+        fi = [float(v) for v in fi if v is not None]
+        row[f"{k}_fi_surf_max_dimensionless"] = max(fi) if fi else math.nan
+        row[f"{k}_wlrm_damage_per_km"] = sum(
+            c.share * float(np.sum(r[f"{k}_wlrm_wheel_per_km"])) for c, r in cases.items()
+        )
+    for side in _SIDES:
+        mine = [k for k, _, s in keys if s == side]
+        area = [sum(c.share * float(np.sum(r[f"{k}_rail_depth_per_axle_m"])) * RAIL_GRID[1]
+                    for c, r in cases.items()) for k in mine]  # fmt: skip
+        dmg = [sum(c.share * float(np.sum(r[f"{k}_wlrm_rail_per_axle"])) for c, r in cases.items())
+               for k in mine]  # fmt: skip
+        row[f"rail_{side}_area_per_axle_um2"] = float(np.mean(area)) * 1e12
+        row[f"rail_{side}_wlrm_damage_per_axle"] = float(np.mean(dmg))
+    return row
 
 
 def _measures(profiles: dict, conicity: dict) -> dict:

@@ -54,6 +54,8 @@ __all__ = [
 #: (docs/wear.md, "Worn profiles that diverge": the contact sweeping across a worn flange root
 #: needed 0.5 ms where the new profiles run with railexu's 2 ms)
 MIN_TIME_STEP_S = 2.5e-4
+#: the layout of the cases' .npz files (a file of another layout is computed again)
+_NPZ_VERSION = 2
 #: statuses whose case wore over its whole window
 _DONE = ("completed", "completed_with_exceedances")
 
@@ -264,8 +266,8 @@ def _case_wear(vehicle, route, case, case_dir: Path, row: dict, dt: float, law: 
 
     status = row["status"]
     coefficients = hashlib.sha256(COEFFICIENTS_FILE.read_bytes()).hexdigest()
-    stamp = json.dumps([row["case_hash"], status, law, coefficients, str(case_dir),
-                        case.mirrored])  # fmt: skip
+    stamp = json.dumps([_NPZ_VERSION, row["case_hash"], status, law, coefficients,
+                        str(case_dir), case.mirrored])  # fmt: skip
     path = _case_file(cases_dir, case)
     if path.is_file():
         with np.load(path, allow_pickle=False) as data:
@@ -291,6 +293,8 @@ def _case_wear(vehicle, route, case, case_dir: Path, row: dict, dt: float, law: 
             out[f"{key}_depth_per_km_m"] = w.depth_per_km_m
             out[f"{key}_volume_rate_per_km_m2"] = np.array(w.volume_rate_per_km_m2)
             out[f"{key}_rail_depth_per_axle_m"] = w.rail_depth_per_axle_m
+            out[f"{key}_wlrm_wheel_per_km"] = w.wlrm_wheel_per_km
+            out[f"{key}_wlrm_rail_per_axle"] = w.wlrm_rail_per_axle
             summary = w.summary()
             if case.mirrored:
                 summary["mirrored_case"] = True
