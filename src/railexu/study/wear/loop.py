@@ -26,7 +26,14 @@ One step:
 5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
    old and the new profile against the integral of the patches' volume rates times ``dL``);
    per wheelset: the equivalent conicity (EN 15302, amplitude 3 mm, nonlinear method) on the
-   route's straight rails.
+   route's straight rails; from the route run that made the step (its ``folder``): per wheel
+   the largest FI_surf and the WLRM damage per km, per rail the removed area and the WLRM
+   damage per axle passage, share-weighted over the cases (:func:`_route_rcf`).
+
+A step made again (the rate control or the failure rule) keeps its earlier attempts: each
+attempt writes its profiles and runs its route in its own folders (``profiles``,
+``profiles_again1``, ...; ``route``, ``route_again1``, ...), ``step_NNN/made_again.txt`` says
+why, and a resumed loop reuses every finished run of every attempt.
 
 The wheels wear, the rails do not (their wear per axle passage is reported per case).
 """
