@@ -38,6 +38,10 @@ def test_route_cases_and_shares(tmp_path):
     names = [(c.name, c.direction, round(c.share, 12)) for c in route.cases]
     assert names == [("straight", "forward", 0.2), ("R200", "forward", 0.4),
                      ("R200", "reverse", 0.4)]  # fmt: skip
+    assert not any(c.mirrored for c in route.cases)  # a curve's reverse turns right
+    both = load_route(_route(tmp_path, ROUTE.replace("directions: forward", "directions: both")))
+    assert [(c.name, c.direction, c.mirrored) for c in both.cases[:2]] == [
+        ("straight", "forward", False), ("straight", "reverse", True)]  # fmt: skip
     curve = route.cases[1].track_data(route)["geometry"]["sections"][2]
     assert curve["direction"] == "left" and route.cases[2].track_data(route)[
         "geometry"]["sections"][2]["direction"] == "right"  # fmt: skip
@@ -190,8 +194,7 @@ def test_step_size_study(tmp_path):
         )
         assert r.complete
         last = r.steps[-1]
-        p = wheel_profile(tmp_path / f"out{d}" / f"step_{last['step']:03d}" / "profiles"
-                          / "ws1_right.txt")  # fmt: skip
+        p = wheel_profile(tmp_path / f"out{d}" / last["profiles_folder"] / "ws1_right.txt")
         depth[d] = new - p.height(s)
     peak = depth[5e-5].max()
     assert peak > 1e-6
@@ -501,3 +504,193 @@ def test_interrupted_loop_says_so_and_resumes(tmp_path):
     wear_loop("wheelset", route, 1e4, tmp_path / "out", max_steps=1, workers=0,
               rate_tolerance=None, log=lines.append)  # fmt: skip
     assert not [line for line in lines if "case(s) run" in line]
+
+
+def _runs(lines: list[str]) -> int:
+    """The cases a loop ran (its log's ``N case(s) run`` lines; cases taken from a study's
+    results.csv are not counted)."""
+    return sum(int(line.split(": ", 1)[1].split(" ", 1)[0]) for line in lines
+               if "case(s) run" in line)  # fmt: skip
+
+
+def test_made_again_steps_keep_every_attempt_and_resume_without_running_again(
+    tmp_path, monkeypatch
+):
+    """A step made again (here by the rate control, its tolerance set to 1 + 1e-6 so that
+    every step is made again once: ``MAX_HALVINGS`` = 2 accepts the half-depth attempt) runs in
+    its own folders (``profiles_again1/``, ``route_again1/``, ``cases_again1/``) and keeps the
+    first attempt's; ``made_again.txt`` says why; ``steps.csv`` names the route run each step's
+    rates came from (``folder``) and its accepted profiles (``profiles_folder``). A loop
+    interrupted after the first made-again attempt resumes with exactly the cases it had not
+    run (no case runs twice) and ends with the uninterrupted loop's profiles (to 1e-12 m: they
+    are the same bytes); run once more it runs nothing."""
+    from railexu.study import read_results
+    from railexu.study.wear import loop
+
+    monkeypatch.setattr(loop, "MAX_HALVINGS", 2)
+    route = _route(tmp_path, "format_version: 1\nname: s\nsections:\n  - {name: s, share: 1, "
+                   "speed: 20 m/s, length: 5 m, directions: forward}\n")  # fmt: skip
+    kw = {"max_steps": 3, "workers": 0, "rate_tolerance": 1.0 + 1e-6}
+    lines: list[str] = []
+    whole = loop.wear_loop("wheelset", route, 1e5, tmp_path / "whole", log=lines.append, **kw)
+    total = _runs(lines)
+    assert len(whole.steps) == 4 and whole.steps[-1]["steps_made_again"] >= 2
+    step1 = tmp_path / "whole" / "step_001"
+    for name in ("profiles", "profiles_again1", "route", "route_again1", "cases_again1"):
+        assert (step1 / name).is_dir(), name
+    for name in ("route", "route_again1"):  # each attempt's own run, completed
+        assert [r["status"] for r in read_results(step1 / name / "results.csv")] == ["completed"]
+    assert not (step1 / "route" / "results.before-input-change.csv").exists()
+    note = (step1 / "made_again.txt").read_text()
+    assert "attempt 1 (profiles/, route/) given up" in note
+    assert "the largest wear rate changed by a factor" in note and "route_again1/" in note
+    assert whole.steps[1]["folder"] == "step_000/route"
+    assert whole.steps[2]["folder"].startswith("step_001/route_again")
+    assert whole.steps[1]["profiles_folder"].startswith("step_001/profiles_again")
+    assert "made again with half the depth: the largest wear rate" in whole.steps[1]["status"]
+    csv_text = (tmp_path / "whole" / "steps.csv").read_text()
+    assert "folder" in csv_text.splitlines()[0]
+
+    def stop_after(n: int):
+        seen: list[str] = []
+
+        def log(line: str) -> None:
+            seen.append(line)
+            if _runs(seen) >= n and "case(s) run" in line:
+                raise KeyboardInterrupt
+
+        return log, seen
+
+    log, before = stop_after(3)  # step_000/route, step_001/route, step_001/route_again1
+    with pytest.raises(KeyboardInterrupt):
+        loop.wear_loop("wheelset", route, 1e5, tmp_path / "cut", log=log, **kw)
+    assert any("route_again1" in line for line in before)
+    after: list[str] = []
+    resumed = loop.wear_loop("wheelset", route, 1e5, tmp_path / "cut", log=after.append, **kw)
+    assert _runs(before) + _runs(after) == total, (before, after)
+    assert len(resumed.steps) == len(whole.steps)
+    s = np.linspace(-0.07, 0.06, 1301)
+    for a, b in zip(whole.steps[1:], resumed.steps[1:], strict=True):
+        assert a["profiles_folder"] == b["profiles_folder"] and a["folder"] == b["folder"]
+        assert a["mileage_km"] == b["mileage_km"]
+        for key in ("ws1_left", "ws1_right"):
+            pa = wheel_profile(tmp_path / "whole" / a["profiles_folder"] / f"{key}.txt")
+            pb = wheel_profile(tmp_path / "cut" / b["profiles_folder"] / f"{key}.txt")
+            assert np.abs(pa.height(s) - pb.height(s)).max() <= 1e-12
+    again: list[str] = []
+    loop.wear_loop("wheelset", route, 1e5, tmp_path / "cut", log=again.append, **kw)
+    assert _runs(again) == 0, again
+
+
+STRAIGHT_BOTH = """format_version: 1
+name: s
+sections:
+  - {name: s, share: 1, speed: 20 m/s, length: 5 m, directions: both}
+"""
+
+
+def test_straight_run_both_ways_wears_both_wheels_equally(tmp_path):
+    """A straight run ``both`` ways: the reverse is the mirrored case (each wheelset's profiles
+    swapped, the initial offset negated, its wear given to the other wheel; docs/wear.md, "The
+    route file"). Symmetric route (no offset): every step the left and the right wheel lose the
+    same area and the same depth **exactly** (0 difference: with equal profiles the mirrored
+    case's inputs are the forward case's, and the two sums add the same numbers; the forward
+    case alone differs by 2.3e-9 of the peak depth between its wheels), over two steps."""
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, STRAIGHT_BOTH)
+    r = wear_loop("wheelset", route, 1e5, tmp_path / "out", max_steps=2, workers=0,
+                  rate_tolerance=None)  # fmt: skip
+    assert len(r.steps) == 3
+    s = np.linspace(-0.07, 0.06, 1301)
+    for row in r.steps[1:]:
+        assert row["ws1_left_area_mm2"] > 0.0
+        assert row["ws1_left_area_mm2"] == row["ws1_right_area_mm2"]
+        assert row["ws1_left_max_depth_mm"] == row["ws1_right_max_depth_mm"]
+        folder = tmp_path / "out" / row["profiles_folder"]
+        left, right = (wheel_profile(folder / f"ws1_{k}.txt").height(s) for k in _SIDES)
+        assert np.array_equal(left, right)
+    # the study of step 1 swaps the (now worn) profiles in its mirrored case
+    study = (tmp_path / "out" / "step_001" / "route" / "study.yaml").read_text()
+    assert "s reverse (mirrored)" in study
+    profiles = [line.strip() for line in study.splitlines() if "ws1_" in line]
+    assert profiles[0].endswith("ws1_left.txt") and profiles[2].endswith("ws1_right.txt")
+
+
+_SIDES = ("left", "right")
+
+
+def test_mirrored_case_is_the_forward_case_mirrored(tmp_path):
+    """The hand-checkable mirror relation: with an initial offset of +1 mm, the mirrored case
+    starts at -1 mm and its wheelset's lateral displacement is minus the forward case's (to
+    1e-9 m; measured 4e-11 m, the file's digits), so its wheels' wear, given back to the real
+    wheels, equals the forward case's node by node (to 1e-5 of the peak depth; measured 5.5e-7)
+    and in area (1e-6; measured 1e-8). (An offset is an asymmetry of the route: both
+    directions then wear the wheel the wheelset starts towards alike, and the two wheels differ
+    as in the forward run.)"""
+    from railexu.simulation.timeseries import TimeSeries
+    from railexu.study.wear.loop import wear_loop
+
+    route = _route(tmp_path, STRAIGHT_BOTH)
+    out = tmp_path / "out"
+    wear_loop("wheelset", route, 1e5, out, max_steps=1, workers=0, rate_tolerance=None,
+              initial_lateral_m=1e-3)  # fmt: skip
+    step0 = out / "step_000"
+    y = [np.asarray(TimeSeries.from_csv(step0 / "route" / "cases" / c / "timeseries.csv")
+                    .columns["ws1_lateral_m"]) for c in ("case_0000", "case_0001")]  # fmt: skip
+    assert y[0][0] == pytest.approx(1e-3) and y[1][0] == pytest.approx(-1e-3)
+    assert np.abs(y[0]).max() > 1e-3 and np.abs(y[0] + y[1]).max() < 1e-9
+    with (np.load(step0 / "cases" / "s_forward.npz") as fwd,
+          np.load(step0 / "cases" / "s_reverse.npz") as rev):  # fmt: skip
+        for side in _SIDES:
+            a, b = fwd[f"ws1_{side}_depth_per_km_m"], rev[f"ws1_{side}_depth_per_km_m"]
+            assert a.max() > 0.0 and np.abs(a - b).max() < 1e-5 * a.max()
+            va = float(fwd[f"ws1_{side}_volume_rate_per_km_m2"])
+            assert float(rev[f"ws1_{side}_volume_rate_per_km_m2"]) == pytest.approx(va, rel=1e-6)
+            summary = json.loads(str(rev[f"ws1_{side}_summary"]))
+            assert summary["side"] == side and summary["mirrored_case"] is True
+        # the forward case's two wheels differ (the offset): the relation is not trivial
+        left, right = fwd["ws1_left_depth_per_km_m"], fwd["ws1_right_depth_per_km_m"]
+        assert np.abs(left - right).max() > 1e-3 * left.max()
+
+
+def test_rcf_and_rail_wear_per_step_are_the_route_weighted_run_values(loop_result):
+    """Per step (docs/wear.md, "RCF and rail wear per step"): each wheel's largest FI_surf of
+    any case and its WLRM damage per km, and each rail's removed area and WLRM damage per axle
+    passage, share-weighted over the cases, equal a hand calculation from the cases' own runs
+    (``run_wear`` of every case's ``timeseries.csv`` in the row's ``folder``, weights x values
+    of its ``summary()``) within 0.5 % (the same sums: measured 2e-16 at most)."""
+    from railexu.results.wear import run_wear
+    from railexu.simulation.timeseries import TimeSeries
+    from railexu.study import read_results
+    from railexu.study.wear.route import load_route
+    from railexu.vehicle.vehicle import load_vehicle
+
+    out = loop_result.out
+    route = load_route(out.parent / "route.yaml")
+    vehicle = load_vehicle("wheelset")
+    wlrm_seen = 0.0
+    for row in loop_result.steps[1:]:
+        folder = out / row["folder"]
+        rows = sorted(read_results(folder / "results.csv"), key=lambda r: r["case_id"])
+        hand: dict[str, float] = {}
+        for case, res in zip(route.cases, rows, strict=True):
+            ts = TimeSeries.from_csv(folder / "cases" / res["case_id"] / "timeseries.csv")
+            for w in run_wear(ts, vehicle, evaluate_from_m=case.evaluate_from_m):
+                s, key = w.summary(), f"{w.wheelset}_{w.side}"
+                name = f"{key}_fi_surf_max_dimensionless"
+                hand[name] = max(hand.get(name, -math.inf), s["fi_surf_max"])
+                for col, value in ((f"{key}_wlrm_damage_per_km", s["wlrm_wheel_per_km"]),
+                                   (f"rail_{w.side}_area_per_axle_um2",
+                                    s["rail_area_per_axle_um2"]),
+                                   (f"rail_{w.side}_wlrm_damage_per_axle",
+                                    s["wlrm_rail_per_axle"])):  # fmt: skip
+                    hand[col] = hand.get(col, 0.0) + case.share * value
+        assert len(hand) == 8
+        for col, value in hand.items():
+            assert row[col] == pytest.approx(value, rel=5e-3, abs=1e-300), col
+        assert (
+            row["rail_left_area_per_axle_um2"] > 0.0 and row["rail_right_area_per_axle_um2"] > 0.0
+        )
+        wlrm_seen += row["ws1_left_wlrm_damage_per_km"] + row["ws1_right_wlrm_damage_per_km"]
+    assert wlrm_seen > 0.0  # the R 200 m cases reach the WLRM band (15-175 N)

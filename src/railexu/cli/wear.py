@@ -19,10 +19,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
             "Run every section of the route (both directions where it says so) with the "
             "current wheel profiles, wear each wheel by the chosen law, step the mileage so that "
             "no wheel loses more than --max-depth per step, update the profiles and repeat "
-            "until --mileage. Writes OUT/steps.csv (Sh, Sd, qR, conicity, removed area per "
-            "step), OUT/wear.json, OUT/step_NNN/profiles/*.txt (profiles railexu reads back), "
+            "until --mileage. Writes OUT/steps.csv (Sh, Sd, qR, conicity, removed area, RCF "
+            "and rail wear per step), OUT/wear.json, OUT/step_NNN/profiles*/*.txt "
+            "(profiles railexu reads back; a step made again keeps every attempt: profiles/, "
+            "profiles_again1/, ..., steps.csv's profiles_folder names the accepted one), "
             "OUT/step_NNN/route*/ (each step's cases as a study: railexu study's files; a stopped "
-            "loop resumes from them and OUT/step_NNN/cases/*.npz) and OUT/figures/. "
+            "loop resumes from them and OUT/step_NNN/cases*/*.npz) and OUT/figures/. "
             "docs/wear.md."
         ),
     )

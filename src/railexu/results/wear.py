@@ -101,11 +101,13 @@ class WheelWear:
             "wheel_max_depth_per_km_um": float(self.depth_per_km_m[i] * 1e6),
             "wheel_max_depth_at_mm": float(self.lateral_m[i] * 1e3),
             "rail_max_depth_per_axle_nm": float(self.rail_depth_per_axle_m.max() * 1e9),
+            "rail_area_per_axle_um2": float(self.rail_depth_per_axle_m.sum() * RAIL_GRID[1] * 1e12),
             "fi_surf_max": self.fi_surf_max,
             "fi_surf_max_at_mm": self.fi_surf_max_at_m * 1e3,
             "fi_surf_share_above_0": self.fi_surf_share,
             "wlrm_rail_max_per_axle": float(self.wlrm_rail_per_axle[j]),
             "wlrm_rail_max_at_mm": float(self.rail_lateral_m[j] * 1e3),
+            "wlrm_rail_per_axle": float(self.wlrm_rail_per_axle.sum()),
             "wlrm_wheel_per_km": float(self.wlrm_wheel_per_km.sum()),
         }
         return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)

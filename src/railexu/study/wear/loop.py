@@ -26,7 +26,14 @@ One step:
 5. per wheel: Sh, Sd, qR, the removed area and the conservation check (the area between the
    old and the new profile against the integral of the patches' volume rates times ``dL``);
    per wheelset: the equivalent conicity (EN 15302, amplitude 3 mm, nonlinear method) on the
-   route's straight rails.
+   route's straight rails; from the route run that made the step (its ``folder``): per wheel
+   the largest FI_surf and the WLRM damage per km, per rail the removed area and the WLRM
+   damage per axle passage, share-weighted over the cases (:func:`_route_rcf`).
+
+A step made again (the rate control or the failure rule) keeps its earlier attempts: each
+attempt writes its profiles and runs its route in its own folders (``profiles``,
+``profiles_again1``, ...; ``route``, ``route_again1``, ...), ``step_NNN/made_again.txt`` says
+why, and a resumed loop reuses every finished run of every attempt.
 
 The wheels wear, the rails do not (their wear per axle passage is reported per case).
 """
@@ -60,7 +67,12 @@ from railexu.study.wear.profiles import (
     worn_profile,
 )
 from railexu.study.wear.route import Route, RouteCase, load_route
-from railexu.study.wear.route_study import MIN_TIME_STEP_S, profile_overrides, run_route_cases
+from railexu.study.wear.route_study import (
+    MIN_TIME_STEP_S,
+    attempt_name,
+    profile_overrides,
+    run_route_cases,
+)
 from railexu.vehicle.vehicle import Vehicle, load_vehicle
 
 __all__ = ["MIN_TIME_STEP_S", "STEP_RULES", "WearLoopResult", "wear_loop"]
@@ -262,7 +274,8 @@ def wear_loop(
     # cumulated depth (the re-read points' errors do not accumulate over the steps)
     original = dict(current)
     total: dict[str, np.ndarray] = {}
-    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0, "status": "new profiles"}
+    row0 = {"step": 0, "mileage_km": 0.0, "step_km": 0.0, "status": "new profiles",
+            "folder": "", "profiles_folder": ""}  # fmt: skip
     row0.update(_measures(current, _conicity(_with_profiles(vehicle, profiles), straight)))
     result.steps.append(row0)
     _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m, False, "")
@@ -271,6 +284,11 @@ def wear_loop(
     depth_limit = max_depth_m
     failures = 0  # steps made again in a row because the route did not complete
     note = ""  # why the next step is made again (its row's status)
+    # each step's attempts: a step made again (rate control, failure rule) runs in new folders
+    # (profiles_again1/, route_again1/, ...) and keeps its earlier attempts' files; why, in
+    # step_NNN/made_again.txt
+    attempts: dict[int, int] = {}
+    notes: dict[int, list[str]] = {}
     control = step_rule == "max_depth" and bool(rate_tolerance)
     while True:
         reached = mileage >= mileage_km * (1.0 - 1e-9)
@@ -282,7 +300,8 @@ def wear_loop(
         try:
             rates = _route_rates(vehicle, vehicle_file, profiles, route,
                                  out / f"step_{step:03d}", law, workers, scheduler,
-                                 initial_lateral_m, keys, smoothing_m, log)  # fmt: skip
+                                 initial_lateral_m, keys, smoothing_m, log,
+                                 attempts.get(step, 0))  # fmt: skip
         except KeyboardInterrupt:  # Ctrl-C, SIGTERM: the finished cases and steps are kept
             result.reason = (f"interrupted at {mileage:.6g} km (profiles of step {step}); run "
                              "the same loop again to resume")  # fmt: skip
@@ -316,6 +335,7 @@ def wear_loop(
             step -= 1
             profiles, current, mileage, total, rates, depth_limit = _state_before(last)
             rejected += 1
+            _made_again(out, step + 1, attempts, notes, note, depth_limit)
             log(f"step {step + 1} {note}")
         elif last is not None and control:
             failures = 0
@@ -328,6 +348,11 @@ def wear_loop(
                 step -= 1
                 profiles, current, mileage, total, rates, depth_limit = _state_before(last)
                 rejected += 1
+                note = (f"made again with half the depth: the largest wear rate changed by a "
+                        f"factor {ratio:.4g} over the step to "
+                        f"{last['mileage'] + last['dl']:.6g} km (tolerance "
+                        f"{rate_tolerance:.6g})")  # fmt: skip
+                _made_again(out, step + 1, attempts, notes, note, depth_limit)
                 log(f"step {step + 1} made again with half the depth "
                     f"({depth_limit * 1e3:.4g} mm): the largest wear rate changed by a factor "
                     f"{ratio:.3g} over it")  # fmt: skip
@@ -345,18 +370,22 @@ def wear_loop(
         dl = depth_limit / rates["peak"] if step_rule == "max_depth" else float(step_km)
         dl = min(dl, mileage_km - mileage)
         last = {"profiles": dict(profiles), "current": dict(current), "mileage": mileage,
-                "rates": rates, "depth": dl * rates["peak"], "total": dict(total)}  # fmt: skip
+                "rates": rates, "depth": dl * rates["peak"], "total": dict(total),
+                "dl": dl}  # fmt: skip
         step += 1
+        profiles_dir = out / f"step_{step:03d}" / attempt_name("profiles", attempts.get(step, 0))
         row = {"step": step, "mileage_km": mileage + dl, "step_km": dl,
                "status": _step_status(rates["again"], note), "steps_made_again": rejected,
                "min_time_step_ms": rates["min_time_step_s"] * 1e3,
-               "cases_run_again": "; ".join(rates["again"])}  # fmt: skip
+               "cases_run_again": "; ".join(rates["again"]), "folder": rates["folder"],
+               "profiles_folder": profiles_dir.relative_to(out).as_posix(),
+               **rates["rcf"]}  # fmt: skip
         note = ""
         new, total = {}, dict(total)
         for key, _, _ in keys:
             worn = rates["smooth"][key] * dl
             total[key] = total.get(key, 0.0) + worn
-            path = out / f"step_{step:03d}" / "profiles" / f"{key}.txt"
+            path = profiles_dir / f"{key}.txt"
             new[key] = worn_profile(original[key], rates["y"], total[key], path,
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
             check = profile_check(new[key], original[key])
@@ -410,18 +439,40 @@ def _halvings_text(failures: int) -> str:
     return f", and the step was made again with half the depth {failures} time(s)"
 
 
+def _made_again(out: Path, step: int, attempts: dict, notes: dict, why: str,
+                depth_m: float) -> None:  # fmt: skip
+    """Step ``step`` is made again: its next attempt gets new folders; ``made_again.txt`` in
+    its folder says which attempt was given up, why, and where the next one is."""
+    a = attempts.get(step, 0)
+    attempts[step] = a + 1
+    old = f"{attempt_name('profiles', a)}/, {attempt_name('route', a)}/"
+    new = f"{attempt_name('profiles', a + 1)}/, {attempt_name('route', a + 1)}/"
+    notes.setdefault(step, []).append(
+        f"attempt {a + 1} ({old}) given up, {why}; attempt {a + 2} with a largest depth of "
+        f"{depth_m * 1e3:.6g} mm: {new}"
+    )
+    text = (
+        f"step {step} was made again (docs/wear.md, 'A step made again'); every attempt's "
+        "files are kept, steps.csv's row of the step names the accepted profiles "
+        "(profiles_folder), the next row the route run its rates came from (folder)\n"
+    )
+    _atomic(out / f"step_{step:03d}" / "made_again.txt", text + "\n".join(notes[step]) + "\n")
+
+
 def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
-                 initial_lateral_m, keys, smoothing_m, log) -> dict:  # fmt: skip
+                 initial_lateral_m, keys, smoothing_m, log, attempt=0) -> dict:  # fmt: skip
     """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
-    volume rate per km, the largest depth per km and the cases that did not complete."""
+    volume rate per km, the largest depth per km and the cases that did not complete;
+    ``folder``: the study folder of the route's run (``step_NNN/route_again1``)."""
     veh = _with_profiles(vehicle, profiles)
     items = profile_overrides(vehicle, wheelset_order(vehicle), profiles)
     cases = run_route_cases(veh, vehicle_file, items, route, step_dir, law, initial_lateral_m,
-                            workers, scheduler, log)  # fmt: skip
+                            workers, scheduler, log, attempt)  # fmt: skip
+    folder = f"{step_dir.name}/{attempt_name('route', attempt)}"
     bad = [f"{c.name}_{c.direction}: {r['status']}" for c, r in cases.items()
            if str(r["status"]) not in ("completed", "completed_with_exceedances")]  # fmt: skip
     if bad:
-        return {"bad": bad}
+        return {"bad": bad, "folder": folder}
     steps = [float(r["time_step_s"]) for r in cases.values() if "time_step_s" in r]
     default_dt = RunSettings().time_step_s
     again = [f"{c.name}_{c.direction} ({float(r['time_step_s']) * 1e3:g} ms)"
@@ -434,6 +485,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
            for k, _, _ in keys}  # fmt: skip
     smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
     return {
+        "rcf": _route_rcf(cases, keys),
         "smooth": smooth,
         "vol": vol,
         "peak": max(float(d.max()) for d in smooth.values()),
@@ -441,7 +493,36 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "again": again,
         "min_time_step_s": min(steps) if steps else math.nan,
         "y": grid[0] + grid[1] * np.arange(int(grid[2])),
+        "folder": folder,
     }
+
+
+def _route_rcf(cases: dict, keys: list) -> dict:
+    """The route's RCF and rail wear of a step's rates (docs/wear.md, "RCF and rail wear per
+    step"): per wheel the largest FI_surf of any case [-] and the WLRM damage per km
+    (share-weighted over the cases, like the depth) [1/km]; per rail (the rail under the
+    vehicle's left or right wheels) the removed area per axle passage [um^2] and the WLRM
+    damage per axle passage [-], each share-weighted over the cases and averaged over the
+    vehicle's axles."""
+    from railexu.results.wear import RAIL_GRID
+
+    row: dict[str, float] = {}
+    for k, _, _ in keys:
+        fi = [json.loads(str(r[f"{k}_summary"]))["fi_surf_max"] for r in cases.values()]
+        fi = [float(v) for v in fi if v is not None]
+        row[f"{k}_fi_surf_max_dimensionless"] = max(fi) if fi else math.nan
+        row[f"{k}_wlrm_damage_per_km"] = sum(
+            c.share * float(np.sum(r[f"{k}_wlrm_wheel_per_km"])) for c, r in cases.items()
+        )
+    for side in _SIDES:
+        mine = [k for k, _, s in keys if s == side]
+        area = [sum(c.share * float(np.sum(r[f"{k}_rail_depth_per_axle_m"])) * RAIL_GRID[1]
+                    for c, r in cases.items()) for k in mine]  # fmt: skip
+        dmg = [sum(c.share * float(np.sum(r[f"{k}_wlrm_rail_per_axle"])) for c, r in cases.items())
+               for k in mine]  # fmt: skip
+        row[f"rail_{side}_area_per_axle_um2"] = float(np.mean(area)) * 1e12
+        row[f"rail_{side}_wlrm_damage_per_axle"] = float(np.mean(dmg))
+    return row
 
 
 def _measures(profiles: dict, conicity: dict) -> dict:

@@ -14,8 +14,12 @@ Each section is one case per direction: a straight (no ``radius``) or a circular
 ``length`` after a 10 m straight and a transition (clothoid with a linear cant ramp) of
 :data:`TRANSITION_M`; the evaluation window is the curve (or the straight after
 :data:`LEAD_M`). A curve ``forward`` turns left, ``reverse`` turns right (the same curve run the
-other way); ``both`` (the default) runs both, each with half the section's share. The shares
-are normalised to sum to 1.
+other way); ``both`` (the default) runs both, each with half the section's share. A straight's
+``reverse`` is its **mirrored case** (:attr:`RouteCase.mirrored`): the left and the right wheels
+exchanged, i.e. each wheelset's two wheel profiles swapped and the initial lateral offset
+negated (the route's tracks have no irregularities, so there are none to mirror); the wear of
+the simulated left wheel is the real right wheel's and the other way round
+(:mod:`.route_study`). The shares are normalised to sum to 1.
 """
 
 from __future__ import annotations
@@ -50,6 +54,12 @@ class RouteCase:
     radius_m: float | None
     cant_m: float
     direction: str
+
+    @property
+    def mirrored(self) -> bool:
+        """A straight run ``reverse``: run as the mirrored case (module doc; a curve's
+        ``reverse`` is the curve turning the other way, the wheels as they are)."""
+        return self.direction == "reverse" and not self.radius_m
 
     @property
     def distance_m(self) -> float:
