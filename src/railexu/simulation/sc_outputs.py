@@ -237,14 +237,16 @@ def sc_columns(
 
     Returns:
         ``ws{i}_{side}_rail{r}_{Q_N, Y_N, Tgamma_N, contact_y_m}`` for ``r`` = 1 (nose, blade,
-        check rail), 2 (wing rail, stock rail; the plain rail between panels): the vertical and lateral force of the rail on the wheel (track axes), the wear
-        number ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
+        check rail), 2 (wing rail, stock rail; the plain rail between panels): the vertical and
+        lateral force of the rail on the wheel (track axes), the wear number
+        ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
         lateral contact position in the profile's axes (0 where the rail carries no load: read
-        it where ``..._Q_N > 0``); and ``ws{i}_{side}_in_zone``: 1 where the wheelset is in the
+        it where ``..._Q_N > 0``); ``ws{i}_{side}_in_zone``: 1 where the wheelset is in the
         zone (its first to last slice, where the model reads the stations' tables), 0 outside,
         where every per-rail column is 0 and the side's totals (``..._Q_N``) on the track's
         plain rail apply; ``ws{i}_{side}_panel``: the panel the wheelset's axle is in (1, 2,
-        ... as :func:`panel_names`; 0 outside the panels or the zone). No NaN: a non-finite value marks a diverged run
+        ... as :func:`panel_names`; 0 outside the panels or the zone). No NaN: a non-finite
+        value marks a diverged run
         (:func:`railexu.results.evaluate._finite_rows` ends the summary's window there).
     """
     if rails is None:
