@@ -156,3 +156,39 @@ def test_rail_names_refused_with_file_and_line(tmp_path, value):
     (tmp_path / "s.yaml").write_text(text)
     with pytest.raises(ProfileError, match=r"s\.yaml, line 2: rails = .*expected the two rails"):
         read_yaml_slices(tmp_path / "s.yaml")
+
+
+def test_run_through_the_turnouts_crossing_labels_the_nose():
+    """The wheelset at 10 m/s over the turnout's crossing (through route, facing; the crossing
+    panel and the check rail only): past the wing rail's end the nose carries the whole wheel
+    (a first version gave 99 % of it to the wing rail there); before the nose starts the wing
+    rail does; the two rails' Q sum to the wheel's; the summary names the rails with their
+    largest Q, the run's largest on the nose."""
+    from railexu.results.run import RunSettings, run
+    from railexu.vehicle.vehicle import load_vehicle
+
+    track = load_track("turnout_uk_r245_through_facing", ["turnout.panels=crossing", "start=62 m"])
+    rails = track.variable_rails
+    settings = RunSettings(speed_m_per_s=10.0, distance_m=7.0, initial_lateral_m=0.0)
+    result = run(load_vehicle("wheelset"), track, settings)
+    assert result.status["state"] == "completed"
+    ts = result.timeseries
+    cross = _crossing_panel(rails.left)
+    s = np.asarray(ts["ws1_s_m"]) - rails.start_m - cross.s0_m
+    inside = np.asarray(ts["ws1_left_in_zone"]) > 0.5
+    q = np.asarray(ts["ws1_left_Q_N"])
+    nose, wing = np.asarray(ts["ws1_left_rail1_Q_N"]), np.asarray(ts["ws1_left_rail2_Q_N"])
+    assert np.max(np.abs(nose + wing - q)[inside]) < 1e-6 * 1e5
+    past = inside & (s > WING_END_M + 0.01)
+    before = inside & (s < NOSE_START_M - 0.06)
+    assert np.count_nonzero(past) > 20  # outputs every 50 mm over 1.2 m
+    assert np.all(wing[past] == 0.0)
+    assert nose[past] == pytest.approx(q[past], abs=1e-6)
+    assert np.all(nose[before] == 0.0)
+    panel = np.asarray(ts["ws1_left_panel"])
+    assert np.all(panel[inside & (np.abs(s) < 0.5)] == 1.0)  # the crossing, the left's only panel
+    out = result.summary["switches_crossings"]["ws1_left"]
+    named = {r["rail"]: r["max_Q_N"] for r in out["rails"]}
+    assert named["nose"] == pytest.approx(nose[inside].max())
+    assert named["wing rail"] == pytest.approx(wing[inside & (panel == 1.0)].max())
+    assert out["max_Q_rail_name"] == "nose"
