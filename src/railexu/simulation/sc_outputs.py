@@ -90,11 +90,11 @@ def carrier_rails(
     unique, inverse = np.unique(station, return_inverse=True)
     inverse = inverse.reshape(station.shape)
     z_tab = np.empty((unique.size, y_grid.size))
-    lab_tab = np.empty((unique.size, y_grid.size), dtype=np.int64)
+    lab_tab = np.empty((unique.size, y_grid.size), dtype=np.int8)
     for u, g in enumerate(unique):
         curves = labelled_curves(profile, float(g) * CARRIER_STEP_M)
         z_tab[u], lab = _top(curves, y_grid)
-        lab_tab[u] = np.where(lab < 0, _nearest(curves, y_grid), lab)
+        lab_tab[u] = np.where(lab < 0, _nearest(curves, y_grid), lab) if np.any(lab < 0) else lab
     x = station * CARRIER_STEP_M - s[:, None]
     rr = r[:, None]
     drop = rr - np.sqrt(np.maximum(rr * rr - x * x, 0.0))
@@ -104,7 +104,7 @@ def carrier_rails(
     rows = np.arange(s.size)
     which = lab_tab[inverse[rows, k], j]
     axle = lab_tab[inverse[rows, n], j]  # the station nearest the axle (x within a half step)
-    return np.where(np.isfinite(score[rows, k]), which, axle)
+    return np.where(np.isfinite(score[rows, k]), which, axle).astype(np.int64)
 
 
 def panel_at(profile: VariableProfile | ZonedProfile, s_m: float) -> int:
@@ -198,8 +198,11 @@ def _top(curves: list[tuple[np.ndarray, np.ndarray]], y: np.ndarray):
 def _nearest(curves: list[tuple[np.ndarray, np.ndarray]], y: np.ndarray) -> np.ndarray:
     """The rail of the curve point nearest laterally to each ``y``."""
     pts = np.concatenate([c[:, 0] for c, _ in curves])
-    rails = np.concatenate([lab for _, lab in curves])
-    return rails[np.argmin(np.abs(pts[None, :] - y[:, None]), axis=1)]
+    order = np.argsort(pts, kind="stable")
+    pts, rails = pts[order], np.concatenate([lab for _, lab in curves])[order]
+    j = np.clip(np.searchsorted(pts, y), 1, pts.size - 1)
+    left = np.abs(y - pts[j - 1]) <= np.abs(pts[j] - y)
+    return rails[np.where(left, j - 1, j)]
 
 
 @functools.lru_cache(maxsize=64)
