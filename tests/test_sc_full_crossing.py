@@ -25,9 +25,9 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
 from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.rails import rail_index
 from railexu.profiles.variable.slices import ProfileSlices
 from railexu.results.run import RunSettings, run
-from railexu.simulation.sc_outputs import rail_index
 from railexu.track.track import load_track
 from railexu.track.variable_rails import VariableRails
 from railexu.vehicle.vehicle import load_vehicle

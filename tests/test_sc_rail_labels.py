@@ -1,6 +1,7 @@
 """Which rail carries a contact point in a switch-and-crossing zone (issue 29,
-``railexu.simulation.sc_outputs``): the rail whose surface is the top one at the point's lateral
-position in the slices at that station, per panel (switch: blade, stock rail; crossing: nose,
+``railexu.profiles.variable.rails`` and ``railexu.simulation.sc_outputs``): the rail whose
+surface is the top one at the point's lateral position in the slices at that station, per
+panel (switch: blade, stock rail; crossing: nose,
 wing rail; the other side: check rail, stock rail), checked against the slices' own geometry;
 the per-rail forces sum to the wheel's; the summary names each rail with its largest Q.
 
@@ -17,14 +18,8 @@ import numpy as np
 import pytest
 
 from railexu.contact import kernel as K
-from railexu.simulation.sc_outputs import (
-    carrier_rails,
-    crossing_summary,
-    labelled_curves,
-    panel_names,
-    rail_index,
-    sc_columns,
-)
+from railexu.profiles.variable.rails import carrier_rails, labelled_curves, panel_names, rail_index
+from railexu.simulation.sc_outputs import crossing_summary, sc_columns
 from railexu.track.track import load_track
 
 #: The wing rail's last slice (slice 95) of the shipped crossing [m].

@@ -118,7 +118,7 @@ class AssessmentInputs:
 
 def _sc_panels(rails) -> dict:
     """Per side with a variable profile its panels and their rails' names (issue 29)."""
-    from railexu.simulation.sc_outputs import panel_names
+    from railexu.profiles.variable.rails import panel_names
 
     sides = zip(("left", "right"), rails.sides(), strict=True)
     return {side: panel_names(p) for side, p in sides if p is not None}
