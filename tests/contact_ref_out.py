@@ -13,7 +13,9 @@ def _floats(line: str) -> list[float]:
 
 def read_ref_out(path: Path) -> list[dict]:
     """The cases of a ``.ref_out`` file: ``s_m, y_m, z_m, fz_n, patches`` (each patch
-    ``x_m, y_m, z_m, delta_rad, fn_n``; ``y, z`` in the rail profile's coordinates)."""
+    ``x_m, y_m, z_m, delta_rad, fn_n, fx_n, fs_n``: the normal force and the tangential forces
+    along the track and laterally in the contact plane; ``y, z`` in the rail profile's
+    coordinates)."""
     lines = path.read_text(errors="replace").splitlines()
     cases: list[dict] = []
     for i, line in enumerate(lines):
@@ -29,5 +31,6 @@ def read_ref_out(path: Path) -> list[dict]:
                 {"x_m": v[0] * 1e-3, "y_m": v[4] * 1e-3, "z_m": v[5] * 1e-3, "delta_rad": v[3]}
             )
         elif head[:2] == ["FN", "FX"]:
-            cases[-1]["patches"][-1]["fn_n"] = _floats(lines[i + 1])[0]
+            fn, fx, fs = _floats(lines[i + 1])[:3]
+            cases[-1]["patches"][-1].update({"fn_n": fn, "fx_n": fx, "fs_n": fs})
     return cases

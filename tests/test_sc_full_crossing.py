@@ -25,9 +25,9 @@ from railexu.contact.evaluation import WheelsetContactModel
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
 from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.rails import rail_index
 from railexu.profiles.variable.slices import ProfileSlices
 from railexu.results.run import RunSettings, run
-from railexu.simulation.sc_outputs import rail_index
 from railexu.track.track import load_track
 from railexu.track.variable_rails import VariableRails
 from railexu.vehicle.vehicle import load_vehicle
@@ -342,7 +342,9 @@ def test_rail_attribution_along_the_whole_crossing_both_directions(facing):
     the trailing track's nose the wing rail: its slices run in the other order)."""
     trailing = load_track("uk_crossing_trailing").variable_rails.left
     y = np.array([-0.020, 0.026])  # the nose's top, the wing rail's (or the nose's) field half
-    expected = {-0.5: [1, 1], 0.05: [0, 1], 0.2: [0, 1], 0.5: [0, 0], 1.5: [0, 0], 2.2: [0, 0]}
+    # at 0.05 m the nose does not exist yet: both lateral positions lie on the wing rail (a
+    # first version called y = -20 mm the nose there, by the side of the flangeway's start)
+    expected = {-0.5: [1, 1], 0.05: [1, 1], 0.2: [0, 1], 0.5: [0, 0], 1.5: [0, 0], 2.2: [0, 0]}
     for s, rails in expected.items():
         assert rail_index(facing.variable_rails.left, s, y).tolist() == rails, s
         assert rail_index(trailing, -s, y).tolist() == rails, s

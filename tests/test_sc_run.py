@@ -16,8 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from railexu.profiles.variable.rails import rail_index
 from railexu.results.run import RunSettings, run
-from railexu.simulation.sc_outputs import crossing_summary, rail_index
+from railexu.simulation.sc_outputs import crossing_summary
 from railexu.track.track import load_track
 from railexu.vehicle.vehicle import load_vehicle
 

@@ -169,6 +169,7 @@ def write_crossing(path: Path) -> None:
         "# 15 per slice in mm along its curve, nose then wing rail: see the script).",
         "# Do not edit.",
         "text_unit: m",
+        "rails: [nose, wing rail]",
         "slices:",
     ]
     for k, p, kind in zip(ks, profiles, kinds, strict=True):
@@ -212,6 +213,7 @@ def write_check_rail(path: Path, folder: Path) -> None:
         "# joined by a flangeway 60 mm deep. Written by make_full_slices.py (features: [check",
         "# rail start, check rail end, flangeway end, stock rail end] in mm). Do not edit.",
         "text_unit: m",
+        "rails: [check rail, stock rail]",
         "slices:",
     ]
     for k in range(1, s.size + 1):

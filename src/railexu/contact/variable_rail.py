@@ -43,6 +43,7 @@ from scipy.optimize import brentq
 from railexu.contact.halfspace import solve_normal
 from railexu.errors import ComputationError
 from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.rails import rail_index
 
 
 @dataclass(frozen=True)
@@ -79,9 +80,11 @@ class Patch:
         vertical_force_n, lateral_force_n: its components on the rail [N] (z down positive).
         max_overlap_m: largest undeformed overlap along the normal [m].
         area_m2: contact area [m^2].
-        rail_index: which rail of the side carries it (index into the curves at ``s``, in
-            lateral order; on one curve through the flangeway, the side of the flangeway's
-            lowest point: 0 gauge side, 1 beyond).
+        rail_index: which rail of the side carries it, 0 the gauge side's (nose), 1 the field
+            side's (wing rail): the rail whose surface is on top at the pressure centre, at its
+            own station ``s + x`` (:func:`railexu.profiles.variable.rails.rail_index`: by the
+            slices' boundary feature, else separate curves in lateral order or the two sides
+            of a single curve's deepest point).
     """
 
     x_m: float
@@ -125,21 +128,6 @@ def _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, x, y):
     z_rail = rail.heights_on_grid(s_m + x, y)
     h = z_wheel - z_rail
     return np.where(np.isfinite(h), h, -np.inf)
-
-
-def _rail_index(rail, s_m, y_m) -> int:
-    """Which rail of the side at lateral ``y``: separate curves in order, or the two sides of a
-    single curve's lowest point between its two highest humps (the flangeway)."""
-    curves = rail.curves_at(s_m)
-    if len(curves) > 1:
-        for k, c in enumerate(curves):
-            if c[0, 0] <= y_m <= c[-1, 0]:
-                return k
-        return 0
-    c = curves[0]
-    z = c[:, 1]
-    low = int(np.argmax(z))  # deepest point of the curve (z down): the flangeway's bottom
-    return 0 if y_m <= c[low, 0] else 1
 
 
 def patches_at(
@@ -214,7 +202,7 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st) -> Patch | None:
         lateral_force_n=-force * math.sin(delta),
         max_overlap_m=float(h.max() * cos_d),
         area_m2=float(np.count_nonzero(p > 0.0) * area),
-        rail_index=_rail_index(rail, s_m, ym),
+        rail_index=int(rail_index(rail, s_m + xm, np.array([ym]))[0]),
     )
 
 

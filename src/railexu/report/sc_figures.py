@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from railexu.results import TimeSeries
 
 #: Rail 1 is the gauge side's (the nose, a check rail, a switch blade), rail 2 the field side's
-#: (the wing rail, the stock rail beside a check rail or a blade): sc_outputs.rail_index.
+#: (the wing rail, the stock rail beside a check rail or a blade): profiles.variable.rails.
 _RAILS = ("rail 1 (nose / check rail / blade)", "rail 2 (wing / stock rail)")
 
 

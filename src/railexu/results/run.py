@@ -113,6 +113,15 @@ class AssessmentInputs:
     placements: tuple = ()  # car-body points (results.transition_comfort.PointPlacement)
     comfort_points: tuple[str, ...] | None = None  # the car body's points; None: every point
     sc_zone_m: tuple[float, float] | None = None  # a switch-and-crossing zone (issue 29)
+    sc_panels: dict | None = None  # per side its panels and their rails' names (sc_outputs)
+
+
+def _sc_panels(rails) -> dict:
+    """Per side with a variable profile its panels and their rails' names (issue 29)."""
+    from railexu.profiles.variable.rails import panel_names
+
+    sides = zip(("left", "right"), rails.sides(), strict=True)
+    return {side: panel_names(p) for side, p in sides if p is not None}
 
 
 def assessment_inputs(result: RunResult) -> AssessmentInputs:
@@ -135,6 +144,7 @@ def assessment_inputs(result: RunResult) -> AssessmentInputs:
         placements=_placements(vehicle, order),
         comfort_points=vehicle.car_body_points,
         sc_zone_m=None if rails is None else rails.zone_m(),
+        sc_panels=None if rails is None else _sc_panels(rails),
     )
 
 
@@ -204,7 +214,9 @@ def summarize_run(
     if inputs.sc_zone_m is not None:
         from railexu.simulation.sc_outputs import crossing_summary
 
-        facts["switches_crossings"] = crossing_summary(timeseries, inputs.sc_zone_m, len(names))
+        facts["switches_crossings"] = crossing_summary(
+            timeseries, inputs.sc_zone_m, len(names), inputs.sc_panels
+        )
     for key in _FACTS:
         if key in facts:
             summary[key] = facts[key]

@@ -1,20 +1,25 @@
 """Outputs per rail in a switch-and-crossing zone (issue 29): which rail of a side carries each
 contact point, and the wheel-rail forces, contact position and wear number per rail.
 
-A side with a variable profile has two rails in railexu's S&C zones: rail 1 and rail 2 in lateral
-order in the rail's own axes (field side positive), i.e. for the through route of a common
-crossing rail 1 the **nose** (gauge side of the flangeway) and rail 2 the **wing rail**. A contact
-point belongs to the rail on its side of the flangeway's bottom at the wheelset's track position:
-the rails are the profile's separate curves there, or the two sides of the deepest point of its
-one curve (CONTACT's files give nose and wing rail as one curve through the flangeway;
-:func:`railexu.contact.variable_rail.patches_at` attributes its patches the same way).
+A side with a variable profile has two rails per panel in railexu's S&C zones: rail 1 on the
+gauge side and rail 2 on the field side in the rail's own axes (field side positive), named by
+the slices (``ProfileSlices.rail_names``): in a common crossing rail 1 the **nose** and rail 2
+the **wing rail**, in a switch panel the **blade** and the **stock rail**, on the other side of a
+crossing the **check rail** and the **stock rail**; between a zone's panels the plain rail
+counts as rail 2 (the running rail). A point's rail is the one that carries it in the slices
+(:mod:`railexu.profiles.variable.rails`): each point of the slices' curves is labelled with its
+rail (the parts before and after a *boundary feature*, which parts a side's two rails along the
+whole panel; else separate curves, or the two sides of a single curve's deepest point), and a
+contact point belongs to the rail whose surface is the top one at its lateral position, at the
+station along the effective section (``|x| <= x_max``) where the wheel's circle meets the
+rails (``carrier_rails``). So past the wing rail's end the nose's widened field side is the
+nose's, and a rising nose touched ahead of the axle is the nose's.
 
-Approximations (stated): the attribution uses the section at the wheelset's axle, while a patch
-may lie up to the effective section's half-length ahead of it (46 mm on a 1:10 nose: the
-flangeway moves ~5 mm laterally over that at 1:9.25, against a flangeway ~40 mm wide); the
-contact's lateral position is taken in the placed rail's axes without undoing the rail's cant
-(exact for the S&C benchmark's pre-canted rail; < 1 mm at 1:40 for points up to 40 mm below the
-top).
+Approximations (stated): the stations searched lie on a 5 mm grid along the track and the top
+surface is read every 0.1 mm laterally (a point within 0.05 mm of where two rails meet may be
+given to the other); the contact's lateral position is taken in the placed rail's axes without
+undoing the rail's cant (exact for the S&C benchmark's pre-canted and upright rails; < 1 mm at
+1:40 for points up to 40 mm below the top).
 """
 
 from __future__ import annotations
@@ -23,51 +28,12 @@ import numpy as np
 
 from railexu.contact import kernel as K
 from railexu.contact.placement import WheelsetGeometry
-from railexu.profiles.variable import VariableProfile
+from railexu.profiles.variable.rails import PLAIN_NAMES, carrier_rails, panel_at
 from railexu.track.variable_rails import VariableRails
 
-#: Rails per side in an S&C zone's outputs (nose and wing rail; a check rail is not yet modelled).
+#: Rails per side and panel in an S&C zone's outputs (rail 1 gauge side, rail 2 field side).
 N_RAILS = 2
 _SIDES = ("left", "right")
-
-
-def rail_index(profile: VariableProfile, s_m: float, y_m: np.ndarray) -> np.ndarray:
-    """Index (0, 1) of the rail under lateral positions ``y_m`` [m] (the profile's axes) at the
-    profile's position ``s_m`` [m]: with a boundary feature (:func:`boundary_feature`: the
-    nose's end and the wing rail's start of a whole crossing), the parts before it are rail 0
-    and those after it rail 1 (a slice with the wing rail or the nose alone is that rail);
-    else separate curves in lateral order (0 the first, 1 any later one), or the two sides of
-    the deepest point (z down) of a single curve."""
-    y = np.asarray(y_m, dtype=float)
-    k = boundary_feature(profile)
-    if k is not None:
-        after = [pts[0, 0] for p, pts in profile.parts_at(s_m) if p >= k]
-        return (y >= (min(after) if after else np.inf)).astype(np.int64)
-    curves = profile.curves_at(s_m)
-    if len(curves) > 1:
-        split = 0.5 * (curves[0][-1, 0] + curves[1][0, 0])
-    else:
-        c = curves[0]
-        split = c[int(np.argmax(c[:, 1]))][0]
-    return (y > split).astype(np.int64)
-
-
-def boundary_feature(profile: VariableProfile) -> int | None:
-    """The feature that parts a side's two rails along the whole zone, or None: one present
-    in every slice, with parts before and after it somewhere, and some slice without any part
-    before it or without any part after it (in either direction of travel: the wing rail alone
-    before a crossing's nose starts, the nose alone after the wing rail ends:
-    ``tracks/uk_crossing/uk_crossing_full.yaml``, CONTACT's ``uk_interrupt_v2.slcs``)."""
-    f = profile.slices.features_m
-    if f is None:
-        return None
-    have = np.isfinite(f)
-    for k in range(1, f.shape[1] - 1):
-        before, after = have[:, :k], have[:, k + 1 :]
-        parts = have[:, k].all() and before.any() and after.any()
-        if parts and (not before.any(axis=1).all() or not after.any(axis=1).all()):
-            return k
-    return None
 
 
 def sc_columns(
@@ -85,14 +51,17 @@ def sc_columns(
         s_ws_m: the wheelsets' track distances, ``(n, n_ws)`` [m].
 
     Returns:
-        ``ws{i}_{side}_rail{r}_{Q_N, Y_N, Tgamma_N, contact_y_m}`` for ``r`` = 1 (nose), 2 (wing
-        rail): the vertical and lateral force of the rail on the wheel (track axes), the wear
-        number ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
+        ``ws{i}_{side}_rail{r}_{Q_N, Y_N, Tgamma_N, contact_y_m}`` for ``r`` = 1 (nose, blade,
+        check rail), 2 (wing rail, stock rail; the plain rail between panels): the vertical and
+        lateral force of the rail on the wheel (track axes), the wear number
+        ``sum |Fx xi + Fy eta|`` (Pearce and Sherratt 1991) and the vertical-force-weighted
         lateral contact position in the profile's axes (0 where the rail carries no load: read
-        it where ``..._Q_N > 0``); and ``ws{i}_{side}_in_zone``: 1 where the wheelset is in the
+        it where ``..._Q_N > 0``); ``ws{i}_{side}_in_zone``: 1 where the wheelset is in the
         zone (its first to last slice, where the model reads the stations' tables), 0 outside,
         where every per-rail column is 0 and the side's totals (``..._Q_N``) on the track's
-        plain rail apply. No NaN: a non-finite value marks a diverged run
+        plain rail apply; ``ws{i}_{side}_panel``: the panel the wheelset's axle is in (1, 2,
+        ... as ``railexu.profiles.variable.rails.panel_names``; 0 outside the panels or the
+        zone). No NaN: a non-finite value marks a diverged run
         (:func:`railexu.results.evaluate._finite_rows` ends the summary's window there).
     """
     if rails is None:
@@ -118,10 +87,11 @@ def sc_columns(
         last = lo + max(np.floor((hi - lo) / rails.station_step_m), 1.0) * rails.station_step_m
         inside = (s_rel >= lo) & (s_rel <= last)
         which = np.zeros((n, n_ws, K.MAX_POINTS), dtype=np.int64)
-        for t in range(n):
-            for i in range(n_ws):
-                s = min(max(float(s_rel[t, i]), lo), hi)
-                which[t, i] = rail_index(profile, s, y_rail[t, i])
+        ask = loaded[:, :, side] & inside[:, :, None]
+        s_pts = np.broadcast_to(s_rel[:, :, None], ask.shape)[ask]
+        radius = points[:, :, side, :, K.PF_RADIUS][ask]
+        which[ask] = carrier_rails(profile, s_pts, y_rail[ask], radius, rails.x_max_m)
+        panel = np.array([[panel_at(profile, float(v)) for v in row] for row in s_rel])
         for r in range(N_RAILS):
             on = loaded[:, :, side] & (which == r)
             q = np.where(on, points[:, :, side, :, K.PF_FTZ], 0.0)
@@ -139,22 +109,33 @@ def sc_columns(
                 cols[f"{key}_contact_y_m"] = np.where(out & (q_sum[:, i] > 0.0), pos[:, i], 0.0)
         for i in range(n_ws):
             cols[f"ws{i + 1}_{_SIDES[side]}_in_zone"] = inside[:, i].astype(float)
+            cols[f"ws{i + 1}_{_SIDES[side]}_panel"] = np.where(inside[:, i], panel[:, i], 0.0)
     return cols
 
 
-def crossing_summary(columns, zone_m: tuple[float, float] | None, n_ws: int) -> dict[str, object]:
+def crossing_summary(
+    columns,
+    zone_m: tuple[float, float] | None,
+    n_ws: int,
+    panels: dict[str, list[dict[str, object]]] | None = None,
+) -> dict[str, object]:
     """The S&C quantities of a run per wheelset and side with outputs per rail
     (``columns``: a :class:`~railexu.simulation.timeseries.TimeSeries` or a dict of arrays):
 
     - ``max_Q_N``, ``max_Q_at_m``, ``max_Q_rail``: the largest vertical force of one rail on
       the wheel (the impact at the crossing), the wheelset's track distance there and the rail
-      (1 nose, 2 wing rail);
-    - ``transfer_at_m``: where the nose's share of the side's vertical force first crosses
-      50 %, interpolated linearly between outputs (None where it does not);
-    - ``Tgamma_max_N``: the largest wear number per rail (rails 1, 2).
+      (1 the gauge side's: nose, blade, check rail; 2 the other: wing rail, stock rail);
+    - ``transfer_at_m``: where rail 1's share of the side's vertical force first crosses
+      50 % (the nose's), interpolated linearly between outputs (None where it does not);
+    - ``Tgamma_max_N``: the largest wear number per rail (rails 1, 2);
+    - with ``panels`` (per side ``railexu.profiles.variable.rails.panel_names``) and the
+      ``..._panel`` column: ``rails``,
+      per panel the wheel passed and per rail of it its name, the largest Q on it [N] and the
+      wheelset's track distance there [m]; ``max_Q_rail_name`` the name of the rail with the
+      largest Q.
 
     Window: the output times at which the per-rail columns are defined (the wheelset between the
-    zone's first and last slice: ``window``).
+    zone's first and last slice: ``window``); per panel, the times the wheelset is in it.
     """
     if zone_m is None:
         return {}
@@ -188,7 +169,25 @@ def crossing_summary(columns, zone_m: tuple[float, float] | None, n_ws: int) -> 
                     for r in range(2)
                 ],
             }
+            if panels is not None and side in panels and f"{key}_panel" in names:
+                panel = np.rint(np.asarray(columns[f"{key}_panel"])[win]).astype(np.int64)
+                out[key].update(_per_rail(panels[side], panel, q, s[win], int(k[0]), k[1]))
     return out
+
+
+def _per_rail(panels, panel, q, s, r_max: int, t_max: int) -> dict[str, object]:
+    """Per panel the wheel passed and per named rail: its name, largest Q [N] and where [m]."""
+    rails = []
+    for p in np.unique(panel):
+        at = panel == p
+        for r, name in enumerate(panels[p]["rails"]):
+            if name == PLAIN_NAMES[0]:
+                continue
+            j = int(np.argmax(np.where(at, q[r], -np.inf)))
+            rails.append({"panel": int(p), "source": panels[p]["source"], "rail": name,
+                          "column": f"rail{r + 1}", "max_Q_N": float(q[r, j]),
+                          "max_Q_at_m": float(s[j])})  # fmt: skip
+    return {"rails": rails, "max_Q_rail_name": panels[panel[t_max]]["rails"][r_max]}
 
 
 def _crossing_point(s: np.ndarray, share: np.ndarray) -> float | None:

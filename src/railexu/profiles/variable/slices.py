@@ -42,6 +42,9 @@ class ProfileSlices:
             features (each slice is one part).
         lines: the file's line of each slice (``None`` where not known).
         names: the profile file (or name) of each slice.
+        rail_names: the names of the side's two rails, gauge side first (``("nose", "wing
+            rail")``, ``("blade", "stock rail")``, ``("check rail", "stock rail")``): the
+            outputs' labels (:mod:`railexu.simulation.sc_outputs`); ``None``: not named.
     """
 
     source: str
@@ -50,6 +53,7 @@ class ProfileSlices:
     features_m: np.ndarray | None
     lines: tuple[int | None, ...]
     names: tuple[str, ...]
+    rail_names: tuple[str, str] | None = None
 
     @property
     def n_slices(self) -> int:

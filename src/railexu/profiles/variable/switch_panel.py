@@ -174,7 +174,8 @@ def switch_panel_slices(
     lengths = np.array([arc_length(q)[-1] for q in points])
     f = np.where(np.isinf(f), lengths[:, None], f)
     slices = ProfileSlices(source, np.array(stations, dtype=float), tuple(points), f,
-                           (None,) * len(stations), tuple(names))  # fmt: skip
+                           (None,) * len(stations), tuple(names),
+                           ("blade", "stock rail"))  # fmt: skip
     check_slices(slices)
     return slices
 

@@ -3,6 +3,7 @@
 Example (``tests/data/switches_crossings/cross_nose.yaml``)::
 
     text_unit: mm                 # unit of two-column text profiles: mm (default) or m
+    rails: [nose, wing rail]      # optional: the two rails' names, gauge side first
     slices:
       - s_m: -0.100               # track position of the slice [m]
         profile: cross_nose/nose_1.prr   # .prr (SIMPACK/CONTACT) or text 'y z', z downwards
@@ -48,11 +49,20 @@ def read_yaml_slices(path: str | os.PathLike) -> ProfileSlices:
     data, lines = load_yaml(path)
     if not isinstance(data, dict) or "slices" not in data:
         raise ProfileError(f"{path}: expected a mapping with the key 'slices'")
-    unknown = set(data) - {"slices", "text_unit"}
+    unknown = set(data) - {"slices", "text_unit", "rails"}
     if unknown:
         key = sorted(unknown)[0]
         raise ProfileError(
-            f"{path}, line {_line(lines, key)}: unknown key '{key}': expected slices, text_unit"
+            f"{path}, line {_line(lines, key)}: unknown key '{key}': expected slices, text_unit, "
+            "rails"
+        )
+    rails = data.get("rails")
+    if rails is not None and not (
+        isinstance(rails, list) and len(rails) == 2 and all(isinstance(r, str) and r for r in rails)
+    ):
+        raise ProfileError(
+            f"{path}, line {_line(lines, 'rails')}: rails = {rails!r}: expected the two rails' "
+            "names, gauge side first (e.g. [nose, wing rail])"
         )
     unit = data.get("text_unit", "mm")
     if unit not in _UNITS_TO_MM:
@@ -101,7 +111,8 @@ def read_yaml_slices(path: str | os.PathLike) -> ProfileSlices:
             )
         features = np.asarray(feats, dtype=float)
     slices = ProfileSlices(str(path), np.asarray(positions), tuple(points), features,
-                           tuple(slice_lines), tuple(names))  # fmt: skip
+                           tuple(slice_lines), tuple(names),
+                           None if rails is None else (rails[0], rails[1]))  # fmt: skip
     check_slices(slices)
     return slices
 
