@@ -123,6 +123,8 @@ def analyse(ts, points: np.ndarray, vehicle, side: str, lo: float, hi: float, s0
     out = {"Q0_N": q0, "above_2Q0": above, **(best or {})}
     if best is None:
         return out
+    if rail:  # one rail's load: no landing (the wheel may stand on the other rail)
+        return out
     # the landing: the last samples in the air within IMPULSE_HALF_S before the peak
     i, k = best["ws"], best["k"]
     q = np.asarray(ts[f"ws{i}_{side}_{rail}Q_N"])
