@@ -10,6 +10,8 @@ Step size: the default, 2 ms, was checked against a 0.25 ms reference on the see
 (see ``docs/validation.md`` and ``tests/test_dynamics.py``); generalized-alpha with spectral
 radius 0.7 damps the stiff wheel-rail contact modes, and modified Newton with a relative
 tolerance of 1e-4 re-uses one Jacobian for many steps (Rxyz nodes, ``docs/dev/exudyn-api.md``).
+A step whose Newton iteration fails is halved and retried (Exudyn's adaptive step); every such cut
+is counted (:mod:`railexu.simulation.step_watch`: the summary's ``solver`` block) and warned about.
 """
 
 from __future__ import annotations
