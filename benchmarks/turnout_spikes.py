@@ -27,8 +27,8 @@ lands, ``v`` its vertical velocity there (both in the track frame, the wheel's h
 Run: ``python benchmarks/turnout_spikes.py [--vehicle hbbins_loaded] [--route
 diverging_trailing] [--panel crossing] [--steps 0.4e-3,0.2e-3,0.1e-3] [--save DIR]``; the run
 goes from 3 m plus the wheelbase before the panel's first rail met to 2 m beyond its last
-(``--panels`` of the track: the panel alone, ``turnout.panels``), 10 m/s, centred, on the
-turnout track's ``turnout.approach`` of 60 m as ``benchmarks/turnout_step.py``.
+(the panel alone, ``turnout.panels``; ``--track-panels both``: the whole turnout), 10 m/s,
+centred, on the turnout track's ``turnout.approach`` of 60 m as ``benchmarks/turnout_step.py``.
 """
 
 from __future__ import annotations
@@ -172,6 +172,12 @@ def main() -> None:
     ap.add_argument("--vehicle", default="hbbins_loaded")
     ap.add_argument("--route", default="diverging_trailing")
     ap.add_argument("--panel", default="crossing", choices=("crossing", "switch"))
+    ap.add_argument(
+        "--track-panels",
+        default=None,
+        choices=("both", "switch", "crossing"),
+        help="the track's panels (default: the panel analysed alone)",
+    )
     ap.add_argument("--steps", default="0.4e-3,0.2e-3,0.1e-3")
     ap.add_argument("--s-window", default=None, help="slices' s from,to [m] (crossing only)")
     ap.add_argument("--rail", type=int, default=None, help="one rail's Q (1, 2): the wheel's")
@@ -179,7 +185,7 @@ def main() -> None:
     ap.add_argument("--reuse", type=Path, default=None, help="analyse the runs saved here")
     a = ap.parse_args()
     file = ROOT / "tracks" / f"turnout_uk_r245_{a.route}.yaml"
-    sets = [f"turnout.panels={a.panel}", "turnout.approach=60 m"]
+    sets = [f"turnout.panels={a.track_panels or a.panel}", "turnout.approach=60 m"]
     vehicle = load_vehicle(ROOT / "vehicles" / f"{a.vehicle}.yaml")
     x = [w.position_x_m for w in vehicle.wheelsets]
     lo, hi = load_track(file, sets).variable_rails.zone_m()
@@ -195,7 +201,7 @@ def main() -> None:
     print(f"{a.vehicle}, {a.route}, panel {a.panel} ({side} wheel), {distance:.1f} m at 10 m/s; "
           f"window {p_lo:.3f}-{p_hi:.3f} m (s = 0 at {s0:.3f} m)", flush=True)  # fmt: skip
     for step in (float(v) for v in a.steps.split(",")):
-        name = f"{a.vehicle}_{a.route}_{a.panel}_{step * 1e3:g}ms.npz"
+        name = f"{a.vehicle}_{a.route}_{a.track_panels or a.panel}_{step * 1e3:g}ms.npz"
         if a.reuse is not None:  # the saved run: analysed again
             d = np.load(a.reuse / name)
             ts, points = {k: d[k] for k in d.files}, d["points"]
