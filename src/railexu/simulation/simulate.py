@@ -10,6 +10,8 @@ Step size: the default, 2 ms, was checked against a 0.25 ms reference on the see
 (see ``docs/validation.md`` and ``tests/test_dynamics.py``); generalized-alpha with spectral
 radius 0.7 damps the stiff wheel-rail contact modes, and modified Newton with a relative
 tolerance of 1e-4 re-uses one Jacobian for many steps (Rxyz nodes, ``docs/dev/exudyn-api.md``).
+A step whose Newton iteration fails is halved and retried (Exudyn's adaptive step); every such cut
+is counted (:mod:`railexu.simulation.step_watch`: the summary's ``solver`` block) and warned about.
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from railexu.simulation.recorder import POINT_FIELDS as POINT_FIELDS
 from railexu.simulation.recorder import Recorder
 from railexu.simulation.recorder import contact_fields as contact_fields
 from railexu.simulation.recorder import point_accelerations as point_accelerations
+from railexu.simulation.step_watch import StepWatch
 from railexu.simulation.timeseries import TimeSeries
 from railexu.track.track import Track, ideal_straight_track
 from railexu.vehicle.vehicle import Vehicle
@@ -171,8 +174,9 @@ def simulate(
         model, vehicle, settings, order, n_steps // settings.output_every + 2,
         _flange_heights(model),
     )  # fmt: skip
+    steps = StepWatch(settings.time_step_s, ss.timeIntegration.endTime)
     wall_int, error, stop, stopped_by = _integrate(
-        model, settings, ss, recorder, progress, contact_threads_when
+        model, settings, ss, recorder, progress, contact_threads_when, steps
     )
     status = _final_status(model, settings, recorder, error, stop)
     ts = recorder.timeseries()
@@ -184,12 +188,15 @@ def simulate(
     facts = {
         "status": status,
         "timings_s": timings,
-        "solver": _solver_statistics(model),
+        "solver": {**_solver_statistics(model), **steps.facts()},
         "settings": asdict(settings),
         "vehicle": vehicle.name,
         "track": track.name,
     }
     warnings += list(model.axle_load_warnings)
+    cut = steps.warning(model.distance_at)
+    if cut is not None:
+        warnings.append(cut)
     if warnings:
         facts["warnings"] = warnings
     facts["longitudinal"] = longitudinal_summary(ts, model)
@@ -227,7 +234,24 @@ def _solver_settings(settings: RunSettings):
     ti.newton.useModifiedNewton = True
     ti.newton.relativeTolerance = settings.newton_relative_tolerance
     ti.newton.modifiedNewtonContractivity = 0.2
-    ti.minimumStepSize = h / 1024.0  # impacts on a rigid rail may need a few tiny steps
+    # Settings that decide whether a failure shows, explicit (docs/performance.md, "The
+    # solver's steps"). Adaptive step: a step whose Newton iteration does not converge is
+    # halved and retried (impacts on a rigid rail may need a few tiny steps), down to h/1024,
+    # below which the solver raises (status diverged); after 10 steps with fewer than 7 Newton
+    # iterations it is doubled again. Every cut is counted (StepWatch) and warned about.
+    ti.adaptiveStep = True
+    ti.adaptiveStepDecrease = 0.5
+    ti.adaptiveStepIncrease = 2.0
+    ti.adaptiveStepRecoverySteps = 10
+    ti.adaptiveStepRecoveryIterations = 7
+    ti.minimumStepSize = h / 1024.0
+    # Discontinuous iterations (objects with a PostNewton switch: Exudyn's contact and
+    # friction objects) would accept a step whose switching did not settle when
+    # ignoreMaxIterations is True (Exudyn's default). railexu's model has no such object (the
+    # contacts and the suspensions' friction are forces of user functions: one iteration per
+    # step); False makes a future one fail the step (then cut and counted) instead of passing.
+    ti.discontinuous.ignoreMaxIterations = False
+    ti.discontinuous.maxIterations = 5
     # a state at rest in exact equilibrium (a centred free wheelset) leaves only the round-off
     # of the contact forces as residual (~1e-7 N: Hertz's K delta^1.5 with delta a difference
     # of positions ~0.6 m); Exudyn's default 1e-10 cannot be met then and the step fails.
@@ -240,19 +264,23 @@ def _solver_settings(settings: RunSettings):
     return ss, n_steps
 
 
-def _integrate(model, settings, ss, recorder, progress, contact_threads_when=None):
+def _integrate(model, settings, ss, recorder, progress, contact_threads_when=None, steps=None):
     """Run Exudyn's solver with recording, progress and stop signals (and the contacts' threads
     started when ``contact_threads_when()`` says so).
 
     Returns ``(wall-clock seconds, solver exception or None, stop status or None, the name of
     the stop signal or None)``. A signal that came after the last step still counts: the run
-    is then ``interrupted`` at its end (a stop request is never lost)."""
+    is then ``interrupted`` at its end (a stop request is never lost). ``steps`` (a
+    :class:`~railexu.simulation.step_watch.StepWatch`) counts the solver's attempts and
+    accepted steps."""
     import exudyn as exu
 
     mbs = model.mbs
     ti = ss.timeIntegration
     h = settings.time_step_s
     rec = {"status": None, "next": 0.0, "interrupted": False, "signal": None}
+    steps = steps if steps is not None else StepWatch(h, ti.endTime)
+    begin_step = settings.speed_varies or getattr(model, "vertical_forces", None) is not None
     wall0 = [time.perf_counter()]
 
     def record(t: float) -> bool:
@@ -278,12 +306,19 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
     interval = settings.output_every * h
 
     def pre_step(mbs_, t: float) -> bool:
-        # t is the end time of the step about to be computed: the speed it must reach, or
-        # (free motion) the torques; False ends a free run at its distance or standstill
-        return model.begin_step(t, h, settings.distance_m)
+        # called before every attempt of a step (a rejected one is retried with a smaller
+        # step): t is the end time of the step about to be computed: the speed it must reach,
+        # or (free motion) the torques; False ends a free run at its distance or standstill
+        steps.attempt(t)
+        if begin_step and not model.begin_step(t, h, settings.distance_m):
+            steps.not_attempted()
+            return False
+        return True
 
     def post_step(mbs_, t: float) -> bool:
-        # called with the initial state (t = 0) and after every step, with the state at t
+        # called with the initial state (t = 0) and after every accepted step, with the state
+        # at t
+        steps.accepted(t)
         if rec["interrupted"]:
             record(t)
             rec["status"] = ("interrupted", t, f"interrupted ({rec['interrupted']})")
@@ -295,8 +330,7 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
             return record(t)
         return True
 
-    if settings.speed_varies or getattr(model, "vertical_forces", None) is not None:
-        mbs.SetPreStepUserFunction(pre_step)
+    mbs.SetPreStepUserFunction(pre_step)  # also for the step facts (StepWatch)
     mbs.SetPostStepUserFunction(post_step)
     solver_type = (
         exu.DynamicSolverType.GeneralizedAlpha
@@ -318,6 +352,7 @@ def _integrate(model, settings, ss, recorder, progress, contact_threads_when=Non
     except Exception as exc:  # Exudyn raises its own error types on Newton failure
         error = exc
     finally:
+        steps.finish(failed=error is not None)
         exu.config.printToConsole = True
         for signum, handler in previous_handlers.items():
             signal.signal(signum, handler)
@@ -355,14 +390,14 @@ def _final_status(model, settings, recorder, error, stop) -> dict:
 
 
 def _solver_statistics(model: VehicleModel) -> dict:
-    """Newton iterations, Jacobian updates and steps of Exudyn's solver."""
+    """Newton iterations and Jacobian updates of Exudyn's solver, the force function's calls
+    and threads (the steps: :class:`~railexu.simulation.step_watch.StepWatch`)."""
     try:
         it = model.mbs.sys["dynamicSolver"].it
         calls, seconds = model.force_calls
         return {
             "newton_iterations": int(it.newtonStepsCount),
             "jacobian_updates": int(it.newtonJacobiCount),
-            "steps": int(it.currentStepIndex),
             # evaluations of the wheel-rail force function and the wall-clock time in them
             "force_evaluations": int(calls),
             "force_function_s": float(seconds),
