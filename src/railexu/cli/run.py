@@ -83,6 +83,13 @@ def add_parser(sub) -> argparse.ArgumentParser:
         help="record every contact point (position, angle, creepages, forces) in the time series",
     )
     p.add_argument(
+        "--wear",
+        metavar="LAW",
+        help="after the run, the wear and rolling contact fatigue (FI_surf, WLRM) of every wheel "
+        "and rail by this wear law, archard_jendel or energy_usfd, into the folder: wear.csv, "
+        "wear.json, summary.json's wear, wear.png; turns --contact-outputs on (docs/wear.md)",
+    )
+    p.add_argument(
         "--solver",
         default="generalized_alpha",
         choices=("generalized_alpha", "trapezoidal"),
@@ -152,6 +159,20 @@ def _longitudinal_options(args: argparse.Namespace) -> dict:
     return out
 
 
+def _wear_law(text: str | None) -> str | None:
+    """``--wear`` value -> the wear law's name (None: no wear)."""
+    from railexu.errors import did_you_mean
+    from railexu.operation.run_settings import WEAR_LAWS
+
+    if text is None:
+        return None
+    name = text.strip().lower()
+    if name not in WEAR_LAWS:
+        raise CliError(f"--wear {text!r}: unknown wear law.{did_you_mean(name, WEAR_LAWS)} "
+                       f"Known: {', '.join(WEAR_LAWS)}")  # fmt: skip
+    return name
+
+
 def plot_formats(text: str, no_plots: bool = False) -> tuple[str, ...]:
     """``--plots`` value -> figure formats (empty: no figures)."""
     from railexu.errors import did_you_mean
@@ -180,6 +201,7 @@ def command(args: argparse.Namespace) -> int:
     from railexu.runtime.warm_process import WarmProcess
 
     formats = plot_formats(args.plots, args.no_plots)
+    wear_law = _wear_law(args.wear)
     # names are looked up before the output folder exists (`railexu run eu07 --out eu07`)
     vehicle_file = find_input("vehicle", args.vehicle)
     track_file = find_input("track", args.track) if args.track else None
@@ -221,6 +243,7 @@ def command(args: argparse.Namespace) -> int:
             evaluate_from_m=args.evaluate_from,
             evaluate_to_m=args.evaluate_to,
             contact_outputs=args.contact_outputs,
+            wear_law=wear_law,
         )
         if not args.quiet:
             print(
@@ -315,7 +338,29 @@ def format_summary(summary) -> str:
         lines.append(f"  (Nadal's flange-climb limit for this flange and friction: "
                      f"{yq['nadal_limit']:.2f}, information)")  # fmt: skip
     lines.extend(_comfort_lines(summary.get("comfort") or {}))
+    lines.extend(_wear_lines(summary.get("wear")))
     return "\n".join(lines)
+
+
+def _wear_lines(wear: dict | None) -> list[str]:
+    """The wear block of a worn run (docs/wear.md, "Per run"): per wheel one line."""
+    if not wear:
+        return []
+    if not wear.get("computed"):
+        return [f"wear ({wear.get('law')}): not computed ({wear.get('reason', '')})"]
+    head = f"wear ({wear['law']}, {wear['window_rule']})"
+    if not wear.get("complete", True):
+        head += f": {wear.get('note', '')}"
+    lines = [head + ":"]
+    for w, r in zip(wear["wheels"], wear["rails"], strict=True):
+        fi = w["fi_surf_max"]
+        fi_text = "-" if fi is None else f"{fi:.3f} at s = {w['fi_surf_max_at_mm']:.1f} mm"
+        lines.append(
+            f"  {w['wheelset']} {w['side']}: wheel {w['removed_area_per_km_mm2']:.4g} mm^2/km, "
+            f"depth up to {w['max_depth_per_km_um']:.3g} um/km at s = {w['max_depth_at_mm']:.1f} "
+            f"mm, FI_surf max {fi_text}; rail {r['removed_area_per_axle_um2']:.3g} um^2 per axle"
+        )
+    return lines
 
 
 _CRITERION_LABELS = {

@@ -30,6 +30,10 @@ MAX_TRAVEL_PER_STEP_M = 0.3
 #: Most integration steps of one run: more is a unit mistake (or weeks of computing).
 MAX_STEPS = 20_000_000
 SOLVERS = ("generalized_alpha", "trapezoidal")
+#: The wear laws a run can be worn by: the names of
+#: :data:`railexu.contact.wear.laws.WEAR_LAWS` (written here so that reading run settings loads
+#: no numerical library; a test keeps the two equal).
+WEAR_LAWS = ("archard_jendel", "energy_usfd")
 
 
 class RunSettingsError(InputError):
@@ -75,6 +79,11 @@ RUN_SCHEMA = Schema(
               "text_list", default=()),
         Field("time_limit", "free motion: the run ends at its distance or at this time (default: "
               "3 x distance / speed)", unit="s", default=OPTIONAL, positive=True),
+        Field("wear", "after the run, the wear and RCF of every wheel and rail by this wear law "
+              "(`archard_jendel` or `{law: energy_usfd}`) into the run's folder: wear.csv, "
+              "wear.json, summary.json's `wear`, the wear figure; turns contact_outputs on "
+              "(docs/wear.md, \"Per run\")", "model", default=OPTIONAL,
+              models={name: Schema(f"wear {name}", ()) for name in WEAR_LAWS}, selector="law"),
     ),
     "Settings of one run (`base.run` of a study; `railexu run` options). The speed is "
     "constant, or follows `speed_profile` (below), or is free with `traction_torque` or "
@@ -85,6 +94,8 @@ RUN_SCHEMA = Schema(
 TRACTION_KEYS = ("traction_torque", "brake_force", "driven_wheelsets", "time_limit")
 #: Keys that may hold a table (read by run_settings_from_dict itself).
 _TABLE_KEYS = ("traction_torque", "brake_force")
+#: Keys read by run_settings_from_dict itself (tables, the wear law's mapping).
+_OWN_KEYS = (*_TABLE_KEYS, "wear")
 
 #: The keys of a run-settings mapping (study ``run.*`` parameters).
 RUN_KEYS = RUN_SCHEMA.keys()
@@ -117,6 +128,10 @@ class RunSettings:
         traction: traction torque and brake force with the forward motion free
             (:class:`railexu.operation.traction.Traction`, ``docs/traction-and-braking.md``);
             ``speed_m_per_s`` is then the start speed.
+        wear_law: after the run, the wear and RCF of every wheel and rail by this law
+            (:data:`WEAR_LAWS`) into the run's folder
+            (docs/wear.md, "Per run"); None: none. It turns ``contact_outputs`` on (the wear
+            is computed from the recorded contact points).
     """
 
     speed_m_per_s: float = _D("speed")
@@ -135,8 +150,14 @@ class RunSettings:
     deceleration_m_per_s2: float = 0.0
     speed_profile: SpeedProfile | None = None
     traction: Traction | None = None
+    wear_law: str | None = None
 
     def __post_init__(self) -> None:
+        if self.wear_law is not None:
+            if self.wear_law not in WEAR_LAWS:
+                _fail("wear", f"must be one of {', '.join(WEAR_LAWS)}, got {self.wear_law!r}")
+            # the wear is computed from the recorded contact points
+            object.__setattr__(self, "contact_outputs", True)
         if self.speed_profile is not None:
             object.__setattr__(self, "speed_m_per_s", self.speed_profile.start_speed_m_per_s)
         for key, value in (
@@ -318,7 +339,7 @@ def run_settings_from_dict(
         InputError: unknown keys, wrong units, invalid values (naming source, line and key).
     """
     sec = Section(data, source, lines, path, RUN_KEYS)
-    values = RUN_SCHEMA.read_all(sec, [k for k in RUN_SCHEMA.by_key if k not in _TABLE_KEYS])
+    values = RUN_SCHEMA.read_all(sec, [k for k in RUN_SCHEMA.by_key if k not in _OWN_KEYS])
     kwargs = dict(
         speed_m_per_s=values["speed"],
         distance_m=values["distance"],
@@ -332,6 +353,14 @@ def run_settings_from_dict(
         evaluate_to_m=values["evaluate_to"],
         contact_outputs=values["contact_outputs"],
     )
+    if data.get("wear") is not None:
+        kwargs["wear_law"] = RUN_SCHEMA.read(sec, "wear")[0]
+        if data.get("contact_outputs") is False:
+            sec.fail("is false, but wear needs the contact points: leave it out or set it true "
+                     "(wear turns it on)", key="contact_outputs")  # fmt: skip
+    elif "wear" in data:
+        sec.fail(f"expected a wear law, one of {', '.join(WEAR_LAWS)} (or {{law: NAME}}), "
+                 "got nothing", key="wear")  # fmt: skip
     if "speed_profile" in data:
         if "speed" in data:
             sec.fail("give either speed or speed_profile (whose first point is the start "

@@ -25,7 +25,8 @@ def write_run(
     processes: int | None = None,
 ) -> list[Path]:
     """Write ``timeseries.csv``, ``state.npz``, the figures and then ``summary.json`` of a run
-    into ``out_dir``.
+    into ``out_dir``; for a run worn by its settings (``wear_law``, ``result.wear``) also
+    ``wear.csv``, ``wear.json`` and the figure ``wear`` (docs/wear.md, "Per run").
 
     The folder is marked incomplete before its first file changes; each file is written under a
     temporary name and renamed into place, the data files first and ``summary.json`` last; the
@@ -72,6 +73,9 @@ def _write_into(
             from railexu.report.state_file import STATE_FILE
 
             jobs.append(FileJob("state", _state_writer(result, folder.file(STATE_FILE)), 0.4))
+        if getattr(result, "wear", None):  # the settings asked for the wear (wear_law)
+            paths = (folder.file("wear.csv"), folder.file("wear.json"))
+            jobs.append(FileJob("wear", _wear_writer(result, *paths), 0.2))
         if plots:
             jobs += _figure_jobs(result, folder, formats)
         write_jobs(jobs, processes, warm, partial(_remove_temporaries, folder.path))
@@ -93,6 +97,19 @@ def _csv_writer(result: RunResult, path: Path) -> Callable[[], None]:
     def write() -> None:
         with atomic_path(path) as tmp:
             result.timeseries.to_csv(tmp)
+
+    return write
+
+
+def _wear_writer(result: RunResult, csv_path: Path, json_path: Path) -> Callable[[], None]:
+    def write() -> None:
+        from railexu.contact.wear.coefficients import COEFFICIENTS_FILE
+        from railexu.report.wear_files import write_wear_files
+
+        block = result.summary.get("wear") or {}
+        coefficients = block.get("coefficients_file") or str(COEFFICIENTS_FILE)
+        law = result.settings.wear_law
+        write_wear_files(csv_path, json_path, result.wear, law, coefficients)
 
     return write
 
@@ -129,6 +146,8 @@ def _figure_jobs(
     rails = getattr(result.track, "variable_rails", None)
     if rails is not None:
         builders["crossing"] = partial(_crossing_figure, ts, rails.zone_m(), title)
+    if getattr(result, "wear", None):
+        builders["wear"] = partial(_wear_figure, result.wear, result.settings.wear_law, title)
     jobs = []
     for name, build in builders.items():
         for fmt in formats:
@@ -180,6 +199,12 @@ def _crossing_figure(ts, zone_m, title: str):
     from railexu.report.sc_figures import crossing_figure
 
     return crossing_figure(ts, zone_m, title)
+
+
+def _wear_figure(wears: list, law: str, title: str):
+    from railexu.report.run_wear_figure import run_wear_figure
+
+    return run_wear_figure(wears, law, title)
 
 
 def _save(stem: Path, build: Callable, formats: tuple[str, ...]) -> None:

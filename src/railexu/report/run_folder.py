@@ -77,6 +77,12 @@ _TYPES = {
     "curving.geometry": _OBJECT,
     "warnings": _LIST,
     "warnings.*": _TEXT,
+    "wear": _OBJECT,
+    "wear.law": _TEXT,
+    "wear.wheels": _LIST,
+    "wear.wheels.*": _OBJECT,
+    "wear.rails": _LIST,
+    "wear.rails.*": _OBJECT,
 }
 
 

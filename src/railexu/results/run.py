@@ -59,7 +59,9 @@ def run(
     Returns:
         The :class:`~railexu.simulation.simulate.RunResult`; its ``summary`` is a
         :class:`~railexu.results.RunSummary` (``summary["hunting"]`` reads like the JSON,
-        ``summary.to_dict()`` is ``summary.json``).
+        ``summary.to_dict()`` is ``summary.json``). With ``settings.wear_law`` the wear and
+        RCF of every wheel and rail (:func:`railexu.results.run_wear.wear_of_run`) are in
+        ``result.wear`` and ``summary["wear"]`` (docs/wear.md, "Per run").
 
     Raises:
         InputError: bad settings, an initial offset that lifts a wheel up its flange, a model
@@ -67,7 +69,8 @@ def run(
         RunInterrupted: Ctrl-C (SIGINT) during the integration; ``RunTerminated`` (its
             subclass) for SIGTERM (:mod:`railexu.errors`). The run is assessed first: the
             exception's ``result`` is this function's result, status ``interrupted``, with the
-            time series up to the stop and its summary (``railexu.write_run`` writes it). A
+            time series up to the stop and its summary (``railexu.write_run`` writes it; with
+            ``settings.wear_law`` its wear too, the summary's ``wear`` saying so). A
             script's loop of runs stops there; ``except Exception`` does not catch it.
     """
     settings = settings or RunSettings()
@@ -75,6 +78,10 @@ def run(
     when = warm.warmed if warm is not None and warm.ready else None
     result = simulate(vehicle, track, settings, progress, when)
     result.summary = assess(result, warm)
+    if settings.wear_law is not None:  # also for a run that did not complete: it says so
+        from railexu.results.run_wear import wear_of_run
+
+        result.wear, result.summary["wear"] = wear_of_run(result)
     if result.stopped_by is not None:
         raise interruption(result.stopped_by, result)
     return result

@@ -70,6 +70,9 @@ class WheelWear:
         wlrm_wheel_per_km: WLRM damage per km on the wheel grid; ``wlrm_rail_per_axle`` per
             axle passage on the rail grid.
         window: the evaluation window ``(start_m, end_m, rule)``.
+        fi_surf_wheel_max: the largest FI_surf of the window's loaded points at each node of
+            the wheel grid (NaN where no point lies); ``fi_surf_max_rail_at_m``: the rail
+            position of the largest FI_surf (rail grid coordinate).
     """
 
     wheelset: str
@@ -87,6 +90,8 @@ class WheelWear:
     wlrm_wheel_per_km: np.ndarray
     wlrm_rail_per_axle: np.ndarray
     window: tuple
+    fi_surf_wheel_max: np.ndarray | None = None
+    fi_surf_max_rail_at_m: float = math.nan
 
     def summary(self) -> dict:
         """The scalars (JSON-ready: None where not finite), with the window and the rules."""
@@ -101,9 +106,13 @@ class WheelWear:
             "wheel_max_depth_per_km_um": float(self.depth_per_km_m[i] * 1e6),
             "wheel_max_depth_at_mm": float(self.lateral_m[i] * 1e3),
             "rail_max_depth_per_axle_nm": float(self.rail_depth_per_axle_m.max() * 1e9),
+            "rail_max_depth_at_mm": float(
+                self.rail_lateral_m[int(np.argmax(self.rail_depth_per_axle_m))] * 1e3
+            ),
             "rail_area_per_axle_um2": float(self.rail_depth_per_axle_m.sum() * RAIL_GRID[1] * 1e12),
             "fi_surf_max": self.fi_surf_max,
             "fi_surf_max_at_mm": self.fi_surf_max_at_m * 1e3,
+            "fi_surf_max_rail_at_mm": self.fi_surf_max_rail_at_m * 1e3,
             "fi_surf_share_above_0": self.fi_surf_share,
             "wlrm_rail_max_per_axle": float(self.wlrm_rail_per_axle[j]),
             "wlrm_rail_max_at_mm": float(self.rail_lateral_m[j] * 1e3),
@@ -161,6 +170,15 @@ def _bin(grid: tuple, y: np.ndarray, values: np.ndarray) -> np.ndarray:
     y0, step, n = grid
     i = np.clip(np.rint((y - y0) / step).astype(int), 0, n - 1)
     return np.bincount(i, weights=values, minlength=n)
+
+
+def _bin_max(grid: tuple, y: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """The largest of ``values`` at each node of ``grid`` (nearest node; NaN where none)."""
+    y0, step, n = grid
+    out = np.full(n, -np.inf)
+    i = np.clip(np.rint((y - y0) / step).astype(int), 0, n - 1)
+    np.maximum.at(out, i, values)
+    return np.where(np.isfinite(out), out, np.nan)
 
 
 def run_wear(
@@ -252,9 +270,11 @@ def _wheel_wear(name, side, r0, pts, ds, w_wheel, w_rail, area, rail, total, coe
     if np.any(loaded):
         k = np.unravel_index(int(np.argmax(fi)), fi.shape)
         fi_max, fi_at = float(fi[k]), float(pts["wheel_y_m"][k])
+        fi_rail_at = float(pts["rail_y_m"][k])
         share = float(np.mean(fi[loaded] > 0.0))
     else:
-        fi_max, fi_at, share = math.nan, math.nan, 0.0
+        fi_max, fi_at, fi_rail_at, share = math.nan, math.nan, math.nan, 0.0
+    fi_wheel = _bin_max(WHEEL_GRID, pts["wheel_y_m"][loaded], fi[loaded])
     dmg = np.where(loaded, wlrm_damage(pts["Tgamma_N"], coef), 0.0)
     wheel_dmg = _bin(WHEEL_GRID, pts["wheel_y_m"].ravel(), (dmg * w_wheel[:, None]).ravel())
     rail_dmg = _bin(RAIL_GRID, pts["rail_y_m"].ravel(), (dmg * w_rail[:, None]).ravel())
@@ -264,5 +284,5 @@ def _wheel_wear(name, side, r0, pts, ds, w_wheel, w_rail, area, rail, total, coe
         rail_lateral_m=ry, rail_depth_per_axle_m=rail / RAIL_GRID[1],
         volume_rate_per_km_m2=total, fi_surf_max=fi_max, fi_surf_max_at_m=fi_at,
         fi_surf_share=share, wlrm_wheel_per_km=wheel_dmg, wlrm_rail_per_axle=rail_dmg,
-        window=win,
+        window=win, fi_surf_wheel_max=fi_wheel, fi_surf_max_rail_at_m=fi_rail_at,
     )  # fmt: skip

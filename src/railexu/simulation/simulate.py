@@ -68,6 +68,9 @@ class RunResult:
     #: the signal that stopped the run (``"SIGINT"`` or ``"SIGTERM"``; status ``interrupted``),
     #: or None: :func:`railexu.results.run.run` then raises ``railexu.errors.RunInterrupted``
     stopped_by: str | None = None
+    #: the wear and RCF of every wheel when the settings ask for it (``wear_law``): a list of
+    #: ``railexu.results.wear.WheelWear`` set by :func:`railexu.results.run.run`, or None
+    wear: list | None = field(default=None, repr=False)
 
 
 ProgressCallback = Callable[[float, float, float, float], None]
