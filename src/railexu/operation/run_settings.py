@@ -354,6 +354,9 @@ def run_settings_from_dict(
         contact_outputs=values["contact_outputs"],
     )
     if data.get("wear") is not None:
+        if not isinstance(data["wear"], str | dict):
+            sec.fail(f"expected a wear law, one of {', '.join(WEAR_LAWS)} (or {{law: NAME}}), "
+                     f"got {data['wear']!r}", key="wear")  # fmt: skip
         kwargs["wear_law"] = RUN_SCHEMA.read(sec, "wear")[0]
         if data.get("contact_outputs") is False:
             sec.fail("is false, but wear needs the contact points: leave it out or set it true "
