@@ -8,7 +8,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -63,7 +62,7 @@ CSV_ROUND_OFF = 1e-6
 
 def test_the_run_settings_know_the_wear_laws():
     """The names written in the run settings (numpy-free) are those of the wear laws."""
-    assert WEAR_LAWS == tuple(laws.WEAR_LAWS)
+    assert tuple(laws.WEAR_LAWS) == WEAR_LAWS
 
 
 def test_wear_turns_the_contact_outputs_on():
@@ -145,9 +144,7 @@ def test_the_run_writes_the_wear_files_figure_and_summary_block(worn_folder, cap
         assert (out / name).is_file(), name
     summary = read_run_summary(out, ("summary.json", "wear.csv", "wear.json"))  # manifest
     manifest = json.loads((out / ".railexu-files.json").read_text())
-    assert manifest["complete"] and {"wear.csv", "wear.json", "wear.png"} <= set(
-        manifest["files"]
-    )
+    assert manifest["complete"] and {"wear.csv", "wear.json", "wear.png"} <= set(manifest["files"])
     wear = summary["wear"]
     assert summary["settings"]["contact_outputs"] and summary["settings"]["wear_law"]
     assert wear["law"] == "archard_jendel" and wear["computed"] and wear["complete"]
@@ -162,9 +159,10 @@ def test_the_run_writes_the_wear_files_figure_and_summary_block(worn_folder, cap
     assert right["removed_area_per_km_mm2"] > 10.0 * left["removed_area_per_km_mm2"]
     assert right["max_depth_at_mm"] < -20.0 < -15.0 < left["max_depth_at_mm"]
     assert right["fi_surf_max"] > left["fi_surf_max"]
-    assert wear["rails"][1]["removed_area_per_axle_um2"] > wear["rails"][0][
-        "removed_area_per_axle_um2"
-    ]
+    assert (
+        wear["rails"][1]["removed_area_per_axle_um2"]
+        > wear["rails"][0]["removed_area_per_axle_um2"]
+    )
     from railexu.cli.run import format_summary
 
     assert "ws1 right: wheel" in format_summary(summary)
@@ -250,12 +248,13 @@ def test_an_interrupted_run_writes_its_wear_and_says_so(worn_folder, tmp_path):
 
 
 def test_nothing_to_wear_is_said_not_hidden():
+    reason = "the evaluation window holds no distance"
     block = wear_block(None, "archard_jendel", str(COEFFICIENTS_FILE), "diverged", False,
-                       reason="the evaluation window holds no distance", stopped_at_m=0.5)  # fmt: skip
+                       reason=reason, stopped_at_m=0.5)  # fmt: skip
     assert not block["computed"] and "no distance" in block["reason"]
     assert "stopped at 0.5 m (diverged)" in block["note"] and "wheels" not in block
 
 
 def test_the_docs_name_the_option():
-    text = textwrap.dedent((ROOT / "docs" / "wear.md").read_text())
+    text = (ROOT / "docs" / "wear.md").read_text()
     assert "--wear" in text and "has no option that writes the wear" not in text
