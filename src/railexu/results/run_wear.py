@@ -83,7 +83,7 @@ def wear_of_run(result: RunResult) -> tuple[list[WheelWear] | None, dict]:
         start, end = wears[0].window[:2] if wears else (math.nan, math.nan)
         if not end - start > 0.0:
             raise InputError(f"the evaluation window holds no distance ({start:g} .. {end:g} m)")
-    except InputError as exc:
+    except (InputError, ValueError) as exc:  # the run's own files are written all the same
         return None, wear_block(None, law, coef.path, state, complete, reason=str(exc),
                                 stopped_at_m=result.status.get("distance_m"))  # fmt: skip
     block = wear_block(wears, law, coef.path, state, complete,
