@@ -111,8 +111,9 @@ def test_run_report_is_self_contained(run_folder):
     digest = hashlib.sha256((ROOT / "vehicles" / "eu07_bogie.yaml").read_bytes()).hexdigest()
     assert digest in page.cells
     assert "completed" in text and "max Y/Q (EN 14363) [-]" in page.cells
-    # inputs, settings, results, the assessment's criteria, ride comfort at the body points
-    assert sum(t == "table" for t, _ in page.tags) == 5
+    # inputs, settings, results, the solver's step facts, the assessment's criteria, ride
+    # comfort at the body points
+    assert sum(t == "table" for t, _ in page.tags) == 6
     assert "<h2>Assessment</h2>" in text and "<h2>Ride comfort</h2>" in text
 
 
@@ -278,3 +279,35 @@ def test_settings_are_shown_with_their_units_not_as_json():
     assert _setting_row("solver", "generalized_alpha") == ("solver", "generalized-alpha")
     assert _setting_row("contact_outputs", False) == ("contact outputs", "no")
     assert "null" not in _setting_row("traction", {"torque_N_m": None})[1]
+
+
+def test_run_report_shows_the_solver_facts_and_warnings(run_folder):
+    """The solver's step facts (docs/performance.md) are on the page with their units, so a
+    run whose step the solver cut says so where a reader looks."""
+    text = (run_folder / "report.html").read_text(encoding="utf-8")
+    assert "<h2>Solver</h2>" in text and "step cuts" in text and "smallest step" in text
+    assert "0.002 s" in text  # the time step, with its unit
+
+
+def test_run_report_shows_the_wear_block():
+    """A run asked for its wear (``--wear``) gets a table per wheel and per rail with units;
+    a block that could not be computed says why."""
+    from railexu.report.html_report import _setting_row, _wear_html
+
+    block = {
+        "law": "archard_jendel", "coefficients_file": "railexu/data/wear_rcf.yaml (shipped)",
+        "computed": True, "window_m": [35.0, 40.0], "window_rule": "from 35 m",
+        "wheels": [{"wheelset": 1, "side": "right", "removed_area_per_km_mm2": 0.227,
+                    "max_depth_per_km_um": 159.0, "max_depth_at_mm": -31.2, "fi_surf_max": 0.131,
+                    "fi_surf_max_at_mm": -30.0, "wlrm_damage_per_km": 1.29e-3}],
+        "rails": [{"wheelset": 1, "side": "right", "removed_area_per_axle_um2": 893.0,
+                   "max_depth_per_axle_nm": 40.0, "max_depth_at_mm": None, "fi_surf_max": 0.1,
+                   "wlrm_damage_per_axle": 2e-6}],
+    }  # fmt: skip
+    html = _wear_html(block)
+    assert "removed area [mm²/km]" in html and "ws1 right" in html and "0.227" in html
+    assert "removed area [µm²/axle]" in html and "893" in html and "null" not in html
+    assert "not computed: no loaded contact" in _wear_html(
+        {"law": "archard_jendel", "computed": False, "reason": "no loaded contact"}
+    )
+    assert _setting_row("wear_law", None) == ("wear law", "none")

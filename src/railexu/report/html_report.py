@@ -172,7 +172,16 @@ def run_report_html(folder: str | Path, figures: bool = True) -> str:
         _table(_settings_rows(summary), ("setting", "value")),
         "<h2>Results</h2>",
         _table(_result_rows(summary), ("result", "value", "limit", "verdict")),
+        "<h2>Solver</h2>",
+        _table(_solver_rows(summary), ("solver", "value")),
     ]
+    warnings = summary.get("warnings") or []
+    if warnings:
+        body += ["<h2>Warnings</h2>", "<ul>" + "".join(f"<li>{_e(w)}</li>" for w in warnings)
+                 + "</ul>"]  # fmt: skip
+    wear = _wear_html(summary.get("wear"))
+    if wear:
+        body += ["<h2>Wear and rolling contact fatigue</h2>", wear]
     assessment = _assessment_html(summary.get("assessment"))
     if assessment:
         body += ["<h2>Assessment</h2>", assessment]
@@ -219,6 +228,52 @@ def _input_rows(summary: dict, meta: dict) -> list[tuple]:
     return rows
 
 
+def _solver_rows(summary: dict) -> list[tuple]:
+    """The solver block of ``summary.json`` (steps, the steps the solver cut, the smallest step;
+    docs/performance.md) as settings are shown: names in words, values with their units."""
+    return [_setting_row(k, v) for k, v in (summary.get("solver") or {}).items()]
+
+
+#: the wear block's per-wheel and per-rail columns: (key, heading with its unit)
+_WEAR_WHEEL = (
+    ("removed_area_per_km_mm2", "removed area [mm²/km]"),
+    ("max_depth_per_km_um", "largest depth [µm/km]"),
+    ("max_depth_at_mm", "at s [mm]"),
+    ("fi_surf_max", "FI_surf max [-]"),
+    ("fi_surf_max_at_mm", "at s [mm]"),
+    ("wlrm_damage_per_km", "WLRM damage [1/km]"),
+)
+_WEAR_RAIL = (("removed_area_per_axle_um2", "removed area [µm²/axle]"),
+              ("max_depth_per_axle_nm", "largest depth [nm/axle]"),
+              ("max_depth_at_mm", "at y [mm]"), ("fi_surf_max", "FI_surf max [-]"),
+              ("wlrm_damage_per_axle", "WLRM damage [1/axle]"))  # fmt: skip
+
+
+def _wear_html(block: dict | None) -> str:
+    """The ``wear`` block of a run asked for its wear (docs/wear.md, "Per run"): the law and its
+    sources, then one table for the wheels and one for the rails."""
+    if not block:
+        return ""
+    head = (
+        f"<p>Law {_e(block.get('law', ''))}, coefficients {_e(block.get('coefficients_file', ''))}"
+    )
+    if block.get("note"):
+        head += f"; {_e(block['note'])}"
+    if not block.get("computed", True):
+        return head + f"; not computed: {_e(block.get('reason', ''))}</p>"
+    window = block.get("window_m") or []
+    if window:
+        head += f"; window {window[0]:.1f}-{window[1]:.1f} m ({_e(block.get('window_rule', ''))})"
+    out = [head + "</p>"]
+    for what, cols in (("wheels", _WEAR_WHEEL), ("rails", _WEAR_RAIL)):
+        rows = [(f"ws{r.get('wheelset')} {r.get('side')}",
+                 *("-" if r.get(k) is None else float(r[k]) for k, _ in cols))
+                for r in block.get(what) or []]  # fmt: skip
+        if rows:
+            out.append(_table(rows, (what[:-1], *(h for _, h in cols))))
+    return "".join(out)
+
+
 def _settings_rows(summary: dict) -> list[tuple]:
     rows = [_setting_row(k, v) for k, v in (summary.get("settings") or {}).items()]
     timings = summary.get("timings_s") or {}
@@ -240,7 +295,7 @@ def _setting_row(key: str, value: object) -> tuple[str, str]:
             break
     name = name.replace("_", " ")
     if value is None:
-        return (name, "default (not set)")
+        return (name, "none" if key == "wear_law" else "default (not set)")
     if isinstance(value, bool):
         return (name, "yes" if value else "no")
     if isinstance(value, int | float):
