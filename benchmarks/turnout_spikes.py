@@ -190,7 +190,7 @@ def main() -> None:
     x = [w.position_x_m for w in vehicle.wheelsets]
     lo, hi = load_track(file, sets).variable_rails.zone_m()
     track = load_track(file, [*sets, f"start={lo - 3.0 - (max(x) - min(x))} m"])
-    side, p_lo, p_hi = panel_ranges(track)[a.panel]
+    side, p_lo, p_hi, _ = panel_ranges(track)[a.panel]
     facing = a.route.endswith("facing")
     s0 = (p_lo - CROSSING_S0_M if facing else p_hi + CROSSING_S0_M) if a.panel == "crossing" else (
         p_lo if facing else p_hi)  # fmt: skip

@@ -69,7 +69,7 @@ def main() -> None:
                                    output_interval_s=step)  # fmt: skip
             result = run(vehicle, track, settings)
             ts = result.timeseries
-            for panel, (side, p_lo, p_hi) in panel_ranges(track).items():
+            for panel, (side, p_lo, p_hi, _) in panel_ranges(track).items():
                 p = peaks(ts, len(vehicle.wheelsets), side, p_lo, p_hi)
                 cells = "  ".join(f"{k} {v[0] / 1e3:6.1f} {v[1] / 1e3:6.1f}" for k, v in p.items())
                 print(f"{name:14s} {step * 1e3:5.2f} ms {result.status['state']:9s} {panel:8s} "

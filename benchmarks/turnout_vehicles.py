@@ -13,11 +13,18 @@ before the first rail of the turnout met and ends 3 m beyond its last, at 10 m/s
 (``DIR/table.jsonl``) for ``docs/turnout_run_figures.py``.
 
 Quantities (the window of each: the wheelset's per-rail columns inside the panel named, every
-wheelset of the vehicle): ``switch``: the route side's switch panel, rail 1 the blade, rail 2
-the stock rail; ``crossing``: the route side's crossing panel, rail 1 the nose, rail 2 the wing
-rail, the largest Q there (the impact), the wheelsets' transfer points (the nose's share of the
-side's Q first crossing 50 %) and the largest Tgamma per rail; ``check``: the other side's
-check-rail panel, rail 1 the check rail.
+wheelset of the vehicle), per rail under the panel's rail names (``rails``, the slices'
+``rail_names`` as in the run summary's ``switches_crossings`` ``rails`` block; a contact is the
+rail's whose surface is on top at its lateral position, ``railexu.profiles.variable.rails``):
+``switch``: the route side's switch panel, the blade and the stock rail; ``crossing``: the route
+side's crossing panel, the nose and the wing rail, the largest Q there (the impact), the
+wheelsets' transfer points (the nose's share of the side's Q first crossing 50 %) and the
+largest Tgamma per rail; ``check``: the other side's check-rail panel, the check rail and its
+stock rail. Lists (``Q_max_N`` ...) are in the order of ``rails`` (gauge side first); ``by_rail``
+holds the same per name. ``Q_sum_residual_N``: per panel the largest ``|Q_rail1 + Q_rail2 - Q|``
+over its window (every wheelset), ``Q`` the side's total: the labels split the wheel's load, so
+it is round-off. The line also keeps the run summary's ``rails`` block per wheelset and side
+(``summary_rails``).
 """
 
 from __future__ import annotations
@@ -29,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from railexu.profiles.variable.rails import DEFAULT_NAMES
 from railexu.results.run import RunSettings, run
 from railexu.simulation.sc_outputs import crossing_summary
 from railexu.track.track import load_track
@@ -38,9 +46,9 @@ ROOT = Path(__file__).resolve().parents[1]
 ROUTES = ("through_facing", "through_trailing", "diverging_facing", "diverging_trailing")
 
 
-def panel_ranges(track) -> dict[str, tuple[str, float, float]]:
-    """``{name: (side, first, last track distance [m])}`` of the switch panel, the crossing and
-    the check rail (the panels present)."""
+def panel_ranges(track) -> dict[str, tuple[str, float, float, list[str]]]:
+    """``{name: (side, first, last track distance [m], its two rails' names)}`` of the switch
+    panel, the crossing and the check rail (the panels present); names gauge side first."""
     zone = track.variable_rails
     out = {}
     for side, prof in (("left", zone.left), ("right", zone.right)):
@@ -53,23 +61,30 @@ def panel_ranges(track) -> dict[str, tuple[str, float, float]]:
                 "crossing" if len(prof.panels) > 1 or "full" in source else "check")  # fmt: skip
             if "check_rail" in source:
                 name = "check"
-            out[name] = (side, lo, hi)
+            names = list(p.profile.slices.rail_names or DEFAULT_NAMES)
+            out[name] = (side, lo, hi, names)
     return out
 
 
-def panel_quantities(ts, n_ws: int, side: str, lo: float, hi: float) -> dict:
-    """Per rail: the largest Q [N] (where, which wheelset), the largest |Y| [N] and Tgamma [N]
-    over the vehicle's wheelsets inside ``lo .. hi``; the transfer points (rail 2 -> rail 1)."""
+def panel_quantities(ts, n_ws: int, side: str, lo: float, hi: float, names: list[str]) -> dict:
+    """Per rail (``names``, gauge side first): the largest Q [N] (where, which wheelset), the
+    largest |Y| [N] and Tgamma [N] over the vehicle's wheelsets inside ``lo .. hi``; the
+    transfer points (the field side's rail -> the gauge side's: wing rail -> nose); the largest
+    ``|Q_1 + Q_2 - Q|`` [N] against the side's total ``Q``."""
     cols = {f"ws{i}_{side}_{q}": np.asarray(ts[f"ws{i}_{side}_{q}"])
             for i in range(1, n_ws + 1) for q in ("in_zone",)}  # fmt: skip
     out = {"Q_max_N": [0.0, 0.0], "Q_max_at_m": [None, None], "Q_max_ws": [None, None],
            "Y_absmax_N": [0.0, 0.0], "Tgamma_max_N": [0.0, 0.0]}  # fmt: skip
+    out["Q_sum_residual_N"] = 0.0
     sub = {}
     for i in range(1, n_ws + 1):
         s = np.asarray(ts[f"ws{i}_s_m"])
         win = (s >= lo) & (s <= hi) & (cols[f"ws{i}_{side}_in_zone"] > 0.5)
         if not np.any(win):
             continue
+        q_sum = sum(np.asarray(ts[f"ws{i}_{side}_rail{r}_Q_N"])[win] for r in (1, 2))
+        residual = float(np.max(np.abs(q_sum - np.asarray(ts[f"ws{i}_{side}_Q_N"])[win])))
+        out["Q_sum_residual_N"] = max(out["Q_sum_residual_N"], residual)
         for r in (1, 2):
             key = f"ws{i}_{side}_rail{r}"
             q = np.asarray(ts[f"{key}_Q_N"])[win]
@@ -90,6 +105,9 @@ def panel_quantities(ts, n_ws: int, side: str, lo: float, hi: float) -> dict:
     summary = crossing_summary(sub, (lo, hi), n_ws) if sub else {}
     out["transfer_at_m"] = [summary.get(f"ws{i}_{side}", {}).get("transfer_at_m")
                             for i in range(1, n_ws + 1)]  # fmt: skip
+    keys = ("Q_max_N", "Q_max_at_m", "Q_max_ws", "Y_absmax_N", "Tgamma_max_N")
+    out["rails"] = list(names)
+    out["by_rail"] = {n: {k: out[k][r] for k in keys} for r, n in enumerate(names)}
     return out
 
 
@@ -150,9 +168,12 @@ def one(vehicle_name: str, route: str, sets: list[str], settings_kw: dict, save:
             "timings_s": {**result.summary["timings_s"], "whole_s": whole},
             "time_step_s": settings.time_step_s, "panels": {}}  # fmt: skip
     ranges = panel_ranges(track)
-    for name, (side, a, b) in ranges.items():
+    for name, (side, a, b, names) in ranges.items():
         line["panels"][name] = {"side": side, "range_m": [a, b],
-                                **panel_quantities(ts, n_ws, side, a, b)}  # fmt: skip
+                                **panel_quantities(ts, n_ws, side, a, b, names)}  # fmt: skip
+    sc = result.summary.to_dict().get("switches_crossings", {})
+    line["summary_rails"] = {k: v["rails"] for k, v in sc.items()
+                             if isinstance(v, dict) and "rails" in v}  # fmt: skip
     if save is not None:
         keep = {"time_s": np.asarray(ts["time_s"])}
         for i in range(1, n_ws + 1):
@@ -174,16 +195,22 @@ def one(vehicle_name: str, route: str, sets: list[str], settings_kw: dict, save:
 
 
 def text_line(line: dict) -> str:
-    """The printed row: state, switch (blade, stock), crossing (nose, wing, impact), check rail."""
+    """The printed row: state, then per panel (switch, crossing, check rail) each rail's name
+    and largest Q [kN], the largest Tgamma per crossing rail [N], the integration time [s]."""
     p = line["panels"]
 
-    def kn(name, r):
-        return p[name]["Q_max_N"][r] / 1e3 if name in p else float("nan")
+    def cells(name):
+        if name not in p:
+            return f"{name}: -"
+        rails = p[name].get("rails", list(DEFAULT_NAMES))  # a line saved before the names
+        return " ".join(f"{n} {q / 1e3:.1f}" for n, q in zip(rails, p[name]["Q_max_N"],
+                                                                strict=True))  # fmt: skip
 
-    return (f"{line['vehicle']:26s} {line['route']:19s} {line['state']:10s} "
-            f"{kn('switch', 0):7.1f} {kn('switch', 1):7.1f} {kn('crossing', 0):7.1f} "
-            f"{kn('crossing', 1):7.1f} {kn('check', 0):7.1f} "
-            f"{line['timings_s']['integration_s']:8.1f}")  # fmt: skip
+    cr = p.get("crossing")
+    tg = ("Tgamma " + " / ".join(f"{v:.0f}" for v in cr["Tgamma_max_N"])) if cr else ""
+    return (f"{line['vehicle']:26s} {line['route']:19s} {line['state']:10s} | "
+            f"{cells('switch')} | {cells('crossing')} {tg} | {cells('check')} | "
+            f"{line['timings_s']['integration_s']:.1f} s")  # fmt: skip
 
 
 def main() -> None:
@@ -205,8 +232,8 @@ def main() -> None:
     kw = {"time_step_s": a.time_step, "output_interval_s": a.time_step}
     print(f"panels {a.panels}, stations {a.step_m or 'design'}, step {a.time_step * 1e3:g} ms, "
           "10 m/s")  # fmt: skip
-    print(f"{'vehicle':26s} {'track':19s} {'state':10s} {'blade':>7s} {'stock':>7s} "
-          f"{'nose':>7s} {'wing':>7s} {'check':>7s} {'integr.':>8s}  (max Q kN; s)")  # fmt: skip
+    print(f"{'vehicle':26s} {'track':19s} {'state':10s} | per panel: rail, largest Q [kN] "
+          "(Tgamma per crossing rail [N]) | integration [s]")  # fmt: skip
     done = set()
     if a.save is not None and (a.save / "table.jsonl").exists():
         for text in (a.save / "table.jsonl").read_text().splitlines():
