@@ -8,17 +8,18 @@ the ratios turnout / plain. Both runs in this process, the plain one first (the 
 kernels loaded before either is timed: a warm-up run of 1 m first).
 
 Run: ``python benchmarks/turnout.py [vehicle] [route] [direction] [--speed 10] [--step-m 0.05]
-[--crossing-step-m 0.01]`` (defaults: hbbins_loaded, diverging, facing, 10 m/s, the design's
-50 mm stations; ``--crossing-step-m``: the crossing panel's own, ``turnout.crossing_station_step``). The run
-starts 12 m before the first panel (the longest wagon's wheelbase) and ends 3 m beyond the last
-rail of the turnout; ``--panels switch`` or ``crossing`` times a shorter zone. Timings vary by
-tens of percent on a shared machine; compare the ratio of one run of this script.
+[--crossing-step-m 0.01]`` (defaults: hbbins_loaded, diverging, facing, 10 m/s, the design's 50
+mm stations; ``--crossing-step-m``: the crossing panel's own,
+``turnout.crossing_station_step``). The run starts 12 m before the first panel (the longest
+wagon's wheelbase) and ends 3 m beyond the last rail of the turnout; ``--panels switch`` or
+``crossing`` times a shorter zone. Timings vary by tens of percent on a shared machine; compare
+the ratio of one run of this script.
 
 ``--store``: only the station store's build, before and after issue 29's sharing (every
 station's table computed and stored, against the plain rail's computed once and stored in one
 row): build seconds, the store's MB and rows, and whether the two give the same table at every
-station (to the last bit). With ``--crossing-step-m``: the shared store only (one row per
-station would not fit in memory), with the stations' count and smallest interval.
+station (to the last bit). With ``--shared-only`` or ``--crossing-step-m``: the shared store
+only (one row per station of 10 mm would not fit in memory), its build also in processor time.
 """
 
 from __future__ import annotations
@@ -50,6 +51,7 @@ def main() -> None:
                     help="the crossing panel's station step [m]")  # fmt: skip
     ap.add_argument("--panels", default="both", choices=("both", "switch", "crossing"))
     ap.add_argument("--store", action="store_true", help="only the station store, before/after")
+    ap.add_argument("--shared-only", action="store_true", help="--store: the shared store only")
     a = ap.parse_args()
     vehicle = load_vehicle(ROOT / "vehicles" / f"{a.vehicle}.yaml")
     file = ROOT / "tracks" / f"turnout_uk_r245_{a.route}_{a.direction}.yaml"
@@ -62,7 +64,7 @@ def main() -> None:
     start = lo - 13.0
     turnout = load_track(file, [*sets, f"start={start} m"])
     if a.store:
-        store(vehicle, turnout, before=a.crossing_step_m is None)
+        store(vehicle, turnout, before=a.crossing_step_m is None and not a.shared_only)
         return
     plain = replace(turnout, variable_rails=None)
     settings = RunSettings(speed_m_per_s=a.speed, distance_m=hi - lo + 15.0, initial_lateral_m=0.0)
@@ -74,8 +76,9 @@ def main() -> None:
         whole = time.perf_counter() - t0
         t = result.summary["timings_s"]
         rows[name] = (t["build_s"], t["integration_s"], whole, result.status["state"])
+    where = f"zone {lo:.2f} .. {hi:.2f} m ({a.panels}), {_stations(turnout.variable_rails)}"
     print(f"{a.vehicle}, {a.route} {a.direction}, {a.speed:g} m/s, {settings.distance_m:.1f} m, "
-          f"zone {lo:.2f} .. {hi:.2f} m ({a.panels}), {_stations(turnout.variable_rails)}")  # fmt: skip
+          f"{where}")  # fmt: skip
     print(f"{'':8s} {'build':>8s} {'integration':>12s} {'whole run':>10s}  state")
     for name, (b, i, w, state) in rows.items():
         print(f"{name:8s} {b:7.2f}s {i:11.2f}s {w:9.2f}s  {state}")
@@ -100,13 +103,14 @@ def store(vehicle, track, before: bool = True) -> None:
     out = {}
     cases = (("before", False), ("after", True)) if before else (("after", True),)
     for name, share in cases:
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         f = sc_kernel_fields(rails, geometry, 5.0e-4, share_tables=share, share_rows=share)
-        out[name] = (time.perf_counter() - t0, f)
+        out[name] = (time.perf_counter() - t0, f, time.process_time() - c0)
     lo, hi = rails.zone_m()
     print(f"station store, zone {lo:.2f} .. {hi:.2f} m, {_stations(rails)}")
-    for name, (t, f) in out.items():
-        print(f"{name:7s} build {t:7.1f} s  store {f['sc_tab'].nbytes / 1e6:8.1f} MB  "
+    for name, (t, f, c) in out.items():
+        mb = f["sc_tab"].nbytes / 1e6
+        print(f"{name:7s} build {t:7.1f} s (processor {c:.1f} s)  store {mb:8.1f} MB  "
               f"rows {f['sc_tab'].shape[0]}")  # fmt: skip
     if not before:
         return

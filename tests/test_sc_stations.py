@@ -20,9 +20,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import NamedTuple
 
+import numba
 import numpy as np
 import pytest
 
+from railexu.contact import kernel as K
 from railexu.errors import InputError
 from railexu.model import forces
 from railexu.model.assembly import wheelset_geometry
@@ -50,6 +52,14 @@ class _Stations(NamedTuple):
     sc_t: np.ndarray
 
 
+#: The force function's station search and blend compiled here with its flags but without
+#: numba's cache: a cached overload for this module's type would be pickled into the package's
+#: cache index, which other processes (without this test module) could not load.
+_FLAGS = {k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"}
+_station_interval = numba.njit(**_FLAGS)(forces._station_interval.py_func)
+_blend_station = numba.njit(**_FLAGS)(forces._blend_station.py_func)
+
+
 def _data(fields: dict) -> _Stations:
     return _Stations(**{k: fields[k] for k in _Stations._fields})
 
@@ -64,7 +74,7 @@ def _old_interval(s: float, start: float, step: float, n: int) -> tuple[int, flo
 
 
 def _blended(d: _Stations, i: int, t: float, side: int) -> np.ndarray:
-    forces._blend_station(d, 0, i, t, side)
+    _blend_station(d, 0, i, t, side)
     return d.sc_cache[0, d.sc_side[side]].copy()
 
 
@@ -92,7 +102,7 @@ def test_uniform_zone_blends_as_before_to_the_last_bit(switch_zone):
     side = int(np.flatnonzero(d.sc_side >= 0)[0])
     for s in s_all:
         before = _old_interval(float(s), fields["sc_start"], rails.station_step_m, n)
-        after = forces._station_interval(d, float(s))
+        after = _station_interval(d, float(s))
         assert after[0] == before[0] and (after[0] < 0 or after[1] == before[1]), (s, after)
         if before[0] >= 0:
             d.sc_key[:] = -1  # recopy the bound columns: a fresh blend each time
@@ -152,18 +162,18 @@ def test_blend_fraction_at_and_between_non_uniform_stations(switch_zone):
     np.testing.assert_allclose(x[j - 1 : j + 8] - lo, expected, atol=1e-12)
     side = int(np.flatnonzero(d.sc_side >= 0)[0])
     for i in range(x.size - 1):
-        assert forces._station_interval(d, float(x[i])) == (i, 0.0)
+        assert _station_interval(d, float(x[i])) == (i, 0.0)
         mid = 0.5 * (x[i] + x[i + 1])
-        k, t = forces._station_interval(d, float(mid))
+        k, t = _station_interval(d, float(mid))
         assert k == i and t == pytest.approx(0.5, abs=1e-12)
         # at a station the blend is that station's table (base columns), to the last bit
         d.sc_key[:] = -1
         table = _blended(d, i, 0.0, side)
         base = d.sc_base[d.sc_index[i, side]]
         assert np.array_equal(table[:, : base.shape[1]], base)
-    assert forces._station_interval(d, float(x[-1])) == (x.size - 2, 1.0)
+    assert _station_interval(d, float(x[-1])) == (x.size - 2, 1.0)
     for s in (x[0] - 1e-9, x[-1] + 1e-9, np.nan):
-        assert forces._station_interval(d, float(s))[0] == -1
+        assert _station_interval(d, float(s))[0] == -1
 
 
 @pytest.mark.parametrize(
