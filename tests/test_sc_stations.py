@@ -210,3 +210,24 @@ def test_variable_rails_parts_refused():
         with pytest.raises(InputError, match=expected):
             VariableRails(left=rails.left, right=rails.right, start_m=rails.start_m,
                           station_steps_m=parts)  # fmt: skip
+
+
+def test_non_uniform_store_keeps_the_plain_rail_once():
+    """The whole turnout with a finer crossing: the plain stretch between the panels (and the
+    side without a switch panel up to the check rail) reads one row per side, as uniform."""
+    sets = ["turnout.station_step=0.5 m", "turnout.crossing_station_step=0.25 m"]
+    track = load_track(TURNOUT, sets)
+    rails = track.variable_rails
+    geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
+    fields = sc_kernel_fields(rails, geometry, 5.0e-4)
+    x = fields["sc_stations"]
+    assert fields["sc_step"] == 0.0 and x.size == fields["sc_index"].shape[0]
+    route_side = next(p for p in rails.sides() if p is not None and len(p.panels) == 2)
+    switch_end = rails.start_m + route_side.panels[0].range_m[1]  # facing: the toe first
+    crossing_start = rails.station_steps_m[0][0]
+    plain = (x > switch_end + 0.5) & (x < crossing_start - 0.5)
+    assert plain.sum() > 10
+    for k in range(2):
+        if fields["sc_side"][k] >= 0:
+            assert np.unique(fields["sc_index"][plain, k]).size == 1
+    assert fields["sc_tab"].shape[0] < 0.5 * 2 * x.size
