@@ -3,9 +3,10 @@ each run and, per panel, the largest vertical force per rail, the crossing's imp
 transfer from wing rail to nose, the largest Tgamma per rail; the integration time.
 
 Run: ``python benchmarks/turnout_vehicles.py [--panels both] [--step-m 0.05] [--time-step 0.4e-3]
-[--vehicles a,b] [--routes through_facing,diverging_trailing] [--save DIR]`` (defaults: every
-vehicle in ``vehicles/``, the four tracks, the whole turnout (switch panel, whole crossing,
-check rail) at the design's 50 mm stations, a 0.4 ms step with every step recorded: the default
+[--crossing-step-m 0.01] [--vehicles a,b] [--routes through_facing,diverging_trailing]
+[--save DIR]`` (defaults: every vehicle in ``vehicles/``, the four tracks, the whole turnout
+(switch panel, whole crossing, check rail) at the design's 50 mm stations, the crossing panel's
+own with ``--crossing-step-m``, a 0.4 ms step with every step recorded: the default
 2 ms moves a wheel 20 mm per step at 10 m/s, longer than a crossing's impact,
 docs/switches-and-crossings.md). Each run starts on straight track 3 m plus the wheelbase
 before the first rail of the turnout met and ends 3 m beyond its last, at 10 m/s, centred.
@@ -217,6 +218,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--panels", default="both", choices=("both", "switch", "crossing"))
     ap.add_argument("--step-m", type=float, default=None, help="station step [m]")
+    ap.add_argument("--crossing-step-m", type=float, default=None,
+                    help="the crossing panel's station step [m]")  # fmt: skip
     ap.add_argument("--time-step", type=float, default=0.4e-3, help="[s]")
     ap.add_argument("--vehicles", default="")
     ap.add_argument("--routes", default=",".join(ROUTES))
@@ -227,10 +230,13 @@ def main() -> None:
     sets = [f"turnout.panels={a.panels}"]
     if a.step_m is not None:
         sets.append(f"turnout.station_step={a.step_m} m")
+    if a.crossing_step_m is not None:
+        sets.append(f"turnout.crossing_station_step={a.crossing_step_m} m")
     if a.save is not None:
         a.save.mkdir(parents=True, exist_ok=True)
     kw = {"time_step_s": a.time_step, "output_interval_s": a.time_step}
-    print(f"panels {a.panels}, stations {a.step_m or 'design'}, step {a.time_step * 1e3:g} ms, "
+    print(f"panels {a.panels}, stations {a.step_m or 'design'} (crossing: "
+          f"{a.crossing_step_m or 'the same'}), step {a.time_step * 1e3:g} ms, "
           "10 m/s")  # fmt: skip
     print(f"{'vehicle':26s} {'track':19s} {'state':10s} | per panel: rail, largest Q [kN] "
           "(Tgamma per crossing rail [N]) | integration [s]")  # fmt: skip

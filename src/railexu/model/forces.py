@@ -112,6 +112,7 @@ NO_SC_CACHE = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
 NO_SC_KEY = np.zeros((0, 2), dtype=np.int64)
 NO_SC_T = np.zeros((0, 2))
 NO_SC_BASE = np.zeros((0, 1, K.T_SLOPE_MAX))
+NO_SC_STATIONS = np.zeros(0)
 
 
 class KernelData(NamedTuple):
@@ -153,9 +154,10 @@ class KernelData(NamedTuple):
     se_real: np.ndarray  # their real rows (suspension_forces.SR_*)
     se_table: np.ndarray  # their characteristic tables (n, 2)
     # switches and crossings (railexu.track.variable_rails): rail tables at stations
-    # sc_start + i sc_step, blended linearly by the wheelset's track position inside the zone
+    # sc_stations (sc_start + i sc_step if uniform), blended linearly by the wheelset's track
+    # position inside the zone (_station_interval)
     sc_start: float = 0.0  # track distance of the first station [m]
-    sc_step: float = 1.0  # distance between stations [m]
+    sc_step: float = 1.0  # distance between stations if uniform [m]; 0: sc_stations not uniform
     sc_tab: np.ndarray = NO_SC_TAB  # (n_rows, M, columns): the distinct station tables
     sc_index: np.ndarray = NO_SC_INDEX  # (n_stations, 2) int64: each station's row per side
     sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_cache's axis 1, -1: plain
@@ -169,6 +171,7 @@ class KernelData(NamedTuple):
     # the four base columns of sc_tab on their own (n_rows, M, 4): the blend at a new position
     # reads 32 bytes a row instead of a 224-byte row's first 32 (2.5x faster, model/sc_tables.py)
     sc_base: np.ndarray = NO_SC_BASE
+    sc_stations: np.ndarray = NO_SC_STATIONS  # (n_stations,) their track distances [m], increasing
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -335,6 +338,32 @@ def _work_size(d):
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
+def _station_interval(d, s):
+    """The stations ``i, i + 1`` around track distance ``s`` [m] and the blend fraction
+    ``t = (s - x_i) / (x_{i+1} - x_i)`` (``-1, 0``: outside the stations). Uniform stations
+    (``d.sc_step > 0``): ``u = (s - sc_start) / sc_step``, ``i = int(u)``, ``t = u - i``, the
+    numbers of the uniform grid to the last bit; else a binary search in ``d.sc_stations``."""
+    n = d.sc_index.shape[0]
+    if d.sc_step > 0.0:
+        u = (s - d.sc_start) / d.sc_step
+        if u >= 0.0 and u <= n - 1.0:
+            i = min(int(u), n - 2)
+            return i, u - i
+        return -1, 0.0
+    x = d.sc_stations
+    if not (s >= x[0] and s <= x[n - 1]):
+        return -1, 0.0
+    lo, hi = 0, n - 1  # x[lo] <= s, and s < x[hi] or hi the last
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if x[mid] <= s:
+            lo = mid
+        else:
+            hi = mid
+    return lo, (s - x[lo]) / (x[lo + 1] - x[lo])
+
+
+@numba.njit(**_JIT_NO_REFCOUNT)
 def _blend_station(d, w, i, t, side):
     """Make wheelset ``w``'s table of one side at ``(1 - t) station i + t station i+1``, from its
     cache (``d.sc_cache[w, sc_side]``): the bound columns (pair envelopes of stations ``i`` and
@@ -416,15 +445,14 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     n_st = d.sc_index.shape[0]
     if n_st > 1:
         # switches and crossings: inside the zone, the stations' tables blended at the wheelset
-        u = (d.ws_local[w, WL_S] - d.sc_start) / d.sc_step
-        if u >= 0.0 and u <= n_st - 1.0:
-            i = min(int(u), n_st - 2)
+        i, t = _station_interval(d, d.ws_local[w, WL_S])
+        if i >= 0:
             if d.sc_side[0] >= 0:
-                _blend_station(d, w, i, u - i, 0)
+                _blend_station(d, w, i, t, 0)
                 rtab_l = d.sc_cache[w, d.sc_side[0]]
                 rinfo_l = d.sc_info[0]
             if d.sc_side[1] >= 0:
-                _blend_station(d, w, i, u - i, 1)
+                _blend_station(d, w, i, t, 1)
                 rtab_r = d.sc_cache[w, d.sc_side[1]]
                 rinfo_r = d.sc_info[1]
     K.wheelset_contact_with_scratch(

@@ -1,14 +1,16 @@
 """The kernel data of a switch-and-crossing zone: rail tables at stations along it (issue 29).
 
 For a track with :class:`~railexu.track.variable_rails.VariableRails`, the stations
-``start + i step`` cover the zone; each side with a variable profile gets the kernel table of
-its effective section at every station (:func:`railexu.contact.variable_tables.station_tables`,
-placed on that side's rail like the track's rail profile). :mod:`railexu.model.forces` blends the
-two stations around a wheelset linearly. The effective section depends on the wheel's radius:
-the first wheelset's wheels are used for all (a vehicle's wheels usually share profile and
-radius). Memory: ``n_distinct x rows x columns x 8`` bytes, one row per station and side
-whose table (with its neighbour's bounds) is not another's: the plain rail between a
-turnout's panels is one row (a 0.6 m zone at 10 mm with a 150 mm wide crossing: ~ 40 MB).
+(:meth:`~railexu.track.variable_rails.VariableRails.stations_m`: ``start + i step``, or the
+union of uniform grids of parts with their own step) cover the zone; each side with a variable
+profile gets the kernel table of its effective section at every station
+(:func:`railexu.contact.variable_tables.station_tables`, placed on that side's rail like the
+track's rail profile). :mod:`railexu.model.forces` blends the two stations around a wheelset
+linearly. The effective section depends on the wheel's radius: the first wheelset's wheels are
+used for all (a vehicle's wheels usually share profile and radius). Memory: ``n_distinct x rows
+x columns x 8`` bytes, one row per station and side whose table (with its neighbour's bounds) is
+not another's: the plain rail between a turnout's panels is one row (a 0.6 m zone at 10 mm with
+a 150 mm wide crossing: ~ 40 MB).
 """
 
 from __future__ import annotations
@@ -39,6 +41,7 @@ def sc_kernel_fields(
     share_rows: bool = True,
 ) -> dict:
     """The ``sc_*`` fields of :class:`railexu.model.forces.KernelData` (empty: no zone): the
+    stations' track distances (``sc_stations``; ``sc_step`` their step if uniform, else 0), the
     distinct station tables with pair-envelope bounds (``sc_tab``, :func:`envelope_rows`),
     which of them each station and side reads (``sc_index``, -1: plain rail there) and each
     wheelset's blend cache (``sc_cache``: its blended table per side; ``sc_key``: the station
@@ -53,9 +56,7 @@ def sc_kernel_fields(
     station's own (the same numbers: for checks and the benchmark's "before")."""
     if rails is None:
         return {}
-    lo, hi = rails.zone_m()
-    n = int(np.floor((hi - lo) / rails.station_step_m)) + 1
-    stations = lo + rails.station_step_m * np.arange(max(n, 2))
+    stations = rails.stations_m()
     sets, infos, side_index = [], np.zeros((2, 3)), np.full(2, -1, dtype=np.int64)
     for k, (profile, pair) in enumerate(zip(rails.sides(), geometry.pairs, strict=True)):
         if profile is None:
@@ -78,7 +79,10 @@ def sc_kernel_fields(
         "sc_key": np.full((n_wheelsets, 2), -1, dtype=np.int64),
         "sc_t": np.full((n_wheelsets, 2), np.nan),
         "sc_start": float(stations[0]),
-        "sc_step": float(rails.station_step_m),
+        # uniform: the blend's interval by division (the numbers of the uniform grid to the last
+        # bit); 0: not uniform, by a binary search in sc_stations
+        "sc_step": float(rails.station_step_m) if rails.uniform else 0.0,
+        "sc_stations": np.ascontiguousarray(stations, dtype=float),
         "sc_tab": table,
         # the base columns on their own: the blend reads them at every new track position
         "sc_base": np.ascontiguousarray(table[:, :, : K.T_SLOPE_MAX]),

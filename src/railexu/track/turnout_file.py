@@ -121,29 +121,47 @@ def turnout_from_dict(
         crossing_range_m=(lo, hi) if t["direction"] == "facing" else (-hi, -lo),
     )  # fmt: skip
     pair = _placed_rail(rail, inclination, gauge_m, sec)
-    side, start = _zoned_profiles(design, t, layout, crossing, pair, geometry, sec)
+    side, start, spans = _zoned_profiles(design, t, layout, crossing, pair, geometry, sec)
     step = t["station_step"] if t["station_step"] is not None else design["station_step"]
     rails = VariableRails(
         left=side.get("left"), right=side.get("right"), start_m=start,
         station_step_m=step,
         x_max_m=design["effective_length"],
+        station_steps_m=panel_station_steps(spans, t),
     )  # fmt: skip
     geometry_section = {"type": "sections", "sections": [dict(p) for p in layout.sections]}
     return geometry_section, rails, layout
 
 
+def panel_station_steps(
+    spans: dict[str, list[tuple[float, float]]], t: dict
+) -> tuple[tuple[float, float, float], ...]:
+    """The parts of the zone with their own station step (``turnout.switch_station_step``,
+    ``crossing_station_step``): ``(from, to, step)`` [m] over each panel's slices in track
+    distances (``spans``: per panel kind its panels' ranges; the crossing's: its wing rail and
+    nose and the check rail together)."""
+    parts = []
+    for kind, ranges in spans.items():
+        step = t[f"{kind}_station_step"]
+        if step is not None and ranges:
+            parts.append((min(a for a, _ in ranges), max(b for _, b in ranges), step))
+    return tuple(parts)
+
+
 def _zoned_profiles(
     design, t, layout, crossing, pair, geometry, sec
-) -> tuple[dict[str, ZonedProfile], float]:
-    """Each side's panels along the zone, the plain rail between, and the track distance of the
-    zone's first slice [m]: on the route's side the switch panel (generated from the track's
-    rail) and the crossing (wing rail and nose), on the other side the check rail beside the
-    opposite running rail (:func:`crossing_slices`)."""
+) -> tuple[dict[str, ZonedProfile], float, dict[str, list[tuple[float, float]]]]:
+    """Each side's panels along the zone, the plain rail between, the track distance of the
+    zone's first slice [m] and per panel kind (``switch``, ``crossing``) the track distances of
+    its panels' first and last slices [m]: on the route's side the switch panel (generated from
+    the track's rail) and the crossing (wing rail and nose), on the other side the check rail
+    beside the opposite running rail (:func:`crossing_slices`)."""
     y = np.arange(pair.rail.y_min, pair.rail.y_max, RAIL_POINT_STEP_M)
     head = np.column_stack([y, -pair.rail.height(y)])
     plain = extended_gauge_face(head)  # as the switch panel's slices continue it
     other = {"left": "right", "right": "left"}[layout.side]
     panels: dict[str, list[Panel]] = {layout.side: [], other: []}
+    spans: dict[str, list[tuple[float, float]]] = {"switch": [], "crossing": []}
     if t["panels"] in ("both", "switch"):
         try:
             planing = SwitchPlaning(**{f"{k}_m": v for k, v in design["switch"].items()})
@@ -153,14 +171,17 @@ def _zoned_profiles(
             design["section"].fail(str(exc), key="switch")
         sw = reversed_slices(sw) if layout.reversed else sw
         panels[layout.side].append(Panel(VariableProfile(sw), layout.toe_m))
+        spans["switch"].append(panels[layout.side][-1].range_m)
     if t["panels"] in ("both", "crossing"):
         origin = design["crossing"]["rail_origin"]
         y0, z0 = pair.rail_origin_track_m
         shift = (0.0, 0.0) if origin is None else (origin[0] - y0, z0 - origin[1])
         nose, check = crossing
         panels[layout.side].append(Panel(VariableProfile(nose), layout.crossing_s0_m, shift))
+        spans["crossing"].append(panels[layout.side][-1].range_m)
         if check is not None:
             panels[other].append(Panel(VariableProfile(check), layout.crossing_s0_m, shift))
+            spans["crossing"].append(panels[other][-1].range_m)
     start = min(p.range_m[0] for side in panels.values() for p in side)
     zoned = {}
     for name, side in panels.items():
@@ -172,7 +193,7 @@ def _zoned_profiles(
             zoned[name] = ZonedProfile(moved, plain, label)
         except ProfileError as exc:
             sec.fail(str(exc), key="design")
-    return zoned, start
+    return zoned, start, spans
 
 
 def _placed_rail(rail: str, inclination, gauge_m: float, sec: Section):

@@ -30,6 +30,12 @@ TURNOUT = Schema(
               choices=("both", "switch", "crossing")),
         Field("station_step", "distance between the stations whose kernel tables are blended "
               "(default: the design's)", unit="m", default=OPTIONAL, minimum=1e-3, maximum=1.0),
+        Field("switch_station_step", "the stations' distance over the switch panel's slices "
+              "(default: station_step)", unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
+        Field("crossing_station_step", "the stations' distance over the crossing panel's slices "
+              "(wing rail, nose, check rail; default: station_step): finer stations where the "
+              "rails move laterally fastest", unit="m", default=OPTIONAL, minimum=1e-4,
+              maximum=1.0),
     ),
     "A turnout as the track: its route and direction (docs/switches-and-crossings.md, "
     "'The turnout'). Generates `geometry` and `variable_rails`: give neither with it.",

@@ -5,8 +5,11 @@
 curve or several rails per side) and where its ``s = 0`` lies on the track. Inside the zone the
 dynamics reads kernel rail tables of the profile at stations every ``station_step_m``, blended
 linearly between stations (:mod:`railexu.model.forces`); outside it the track's rail profile as
-on plain track. Given from Python (``Track(..., variable_rails=VariableRails(...))``) or by a
-track file's ``variable_rails:`` section (:mod:`railexu.track.variable_rails_file`).
+on plain track. Parts of the zone may have their own station step (``station_steps_m``: finer
+stations in a crossing, coarser along a switch blade): the stations are then the union of each
+part's uniform grid (:meth:`VariableRails.stations_m`). Given from Python (``Track(...,
+variable_rails=VariableRails(...))``) or by a track file's ``variable_rails:`` section
+(:mod:`railexu.track.variable_rails_file`).
 """
 
 from __future__ import annotations
@@ -14,8 +17,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from railexu.errors import InputError
 from railexu.profiles.variable import VariableProfile
+
+#: Stations closer than this are one (the later dropped, a part's end kept) [m]: float rounding
+#: of ``a + k step`` against a part's end; 1 % of the smallest step accepted (0.1 mm).
+SAME_STATION_M = 1.0e-6
 
 
 @dataclass(frozen=True, eq=False)
@@ -31,6 +40,9 @@ class VariableRails:
         rail_origin_m: ``(y, z)`` of the profiles' origin in the track's left-type axes [m];
             ``None``: the placed rail profile's own origin (slices in the track's rail axes).
         x_max_m: half-length of the effective section (contact ahead of or behind the axle) [m].
+        station_steps_m: parts of the zone with their own station step, ``(from, to, step)``
+            in track distances [m] (e.g. a turnout's crossing panel at 10 mm, the rest at
+            ``station_step_m``); parts must not overlap. Empty: one uniform grid.
     """
 
     left: VariableProfile | None = None
@@ -39,6 +51,7 @@ class VariableRails:
     station_step_m: float = 0.01
     rail_origin_m: tuple[float, float] | None = None
     x_max_m: float = 0.06
+    station_steps_m: tuple[tuple[float, float, float], ...] = ()
 
     def __post_init__(self) -> None:
         if self.left is None and self.right is None:
@@ -53,6 +66,19 @@ class VariableRails:
             )
         if not 0.0 <= self.x_max_m <= 0.2:
             raise InputError(f"variable rails: x_max_m = {self.x_max_m}: expected 0 .. 0.2 m")
+        parts = sorted(tuple(float(v) for v in p) for p in self.station_steps_m)
+        for a, b, step in parts:
+            if not (math.isfinite(a) and math.isfinite(b) and a < b):
+                raise InputError(f"variable rails: station step part {a} .. {b} m: expected "
+                                 "finite track distances, from < to")  # fmt: skip
+            if not 1e-4 <= step <= 1.0:
+                raise InputError(f"variable rails: station step {step} m of the part {a} .. "
+                                 f"{b} m: expected 0.1 mm .. 1 m")  # fmt: skip
+        for (a0, b0, _), (a1, b1, _) in zip(parts, parts[1:], strict=False):
+            if a1 < b0:
+                raise InputError(f"variable rails: station step parts {a0} .. {b0} m and {a1} "
+                                 f".. {b1} m overlap")  # fmt: skip
+        object.__setattr__(self, "station_steps_m", tuple(parts))
 
     def sides(self) -> tuple[VariableProfile | None, VariableProfile | None]:
         """``(left, right)``."""
@@ -62,3 +88,52 @@ class VariableRails:
         """Track distances of the zone's first and last slice [m] (both sides together)."""
         ranges = [p.s_range_m for p in self.sides() if p is not None]
         return (self.start_m + min(r[0] for r in ranges), self.start_m + max(r[1] for r in ranges))
+
+    @property
+    def uniform(self) -> bool:
+        """Whether the stations are ``first + i station_step_m`` (no part with its own step)."""
+        return not self.station_steps_m
+
+    def stations_m(self) -> np.ndarray:
+        """Track distances of the stations whose tables the dynamics blends [m], increasing.
+
+        Uniform: every ``station_step_m`` from the zone's first slice, the last at or before
+        its last slice (at least two). With parts of their own step: the union of each part's
+        uniform grid (from the part's start, its end included) and of the zone's default grid
+        outside the parts, both zone ends included; stations closer than
+        :data:`SAME_STATION_M` are one."""
+        lo, hi = self.zone_m()
+        step = self.station_step_m
+        if self.uniform:
+            n = int(np.floor((hi - lo) / step)) + 1
+            return lo + step * np.arange(max(n, 2))
+        grid = _grid(lo, hi, step)
+        outside = np.ones(grid.size, dtype=bool)
+        ends = [np.array([lo, hi])]
+        parts = []
+        for a, b, h in self.station_steps_m:
+            a, b = max(a, lo), min(b, hi)
+            if b <= a:
+                continue
+            outside &= (grid <= a) | (grid >= b)
+            parts.append(_grid(a, b, h))
+            ends.append(np.array([a, b]))
+        x = np.sort(np.concatenate([grid[outside], *parts, *ends]))
+        keep = [0]
+        ends_set = np.concatenate(ends)
+        for k in range(1, x.size):
+            if x[k] - x[keep[-1]] > SAME_STATION_M:
+                keep.append(k)
+            elif np.any(ends_set == x[k]):  # a part's end or the zone's: it wins
+                keep[-1] = k
+        return x[keep]
+
+
+def _grid(a: float, b: float, step: float) -> np.ndarray:
+    """``a + k step`` from ``a`` up to ``b`` [m], and ``b`` itself (closer than
+    :data:`SAME_STATION_M` to the last: replaces it)."""
+    x = a + step * np.arange(int(np.floor((b - a) / step)) + 1)
+    if b - x[-1] > SAME_STATION_M:
+        return np.append(x, b)
+    x[-1] = b if x.size > 1 else x[-1]
+    return x

@@ -1,0 +1,233 @@
+"""Stations that are not uniform in a switch-and-crossing zone (issue 29).
+
+The dynamics blends the rail tables of the two stations around a wheelset
+(:func:`railexu.model.forces._station_interval`, :func:`railexu.model.forces._blend_station`).
+References outside the code under test:
+
+- a uniform zone: the blend's interval and fraction as they were computed before the stations
+  became an array (``u = (s - start) / step``, ``i = int(u)``, ``t = u - i``, written out here)
+  and the tables blended with them: equal to the last bit (the same IEEE operations);
+- a zone with parts of their own step: the definition of the union of uniform grids (each
+  part's ``a + k h`` from its start, its end included; the zone's default grid outside; both
+  zone ends), and the blend fraction's definition ``t = (s - x_i) / (x_{i+1} - x_i)``: 0 at a
+  station, 1/2 halfway (within 1e-12: the rounding of track distances of ~70 m, 1e-14 m, over
+  intervals of 10 mm);
+- refusals name the file, the line and the key.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import NamedTuple
+
+import numba
+import numpy as np
+import pytest
+
+from railexu.contact import kernel as K
+from railexu.errors import InputError
+from railexu.model import forces
+from railexu.model.assembly import wheelset_geometry
+from railexu.model.sc_tables import sc_kernel_fields
+from railexu.track.track import load_track
+from railexu.track.variable_rails import SAME_STATION_M, VariableRails
+from railexu.vehicle.vehicle import load_vehicle
+
+ROOT = Path(__file__).resolve().parents[1]
+TURNOUT = "turnout_uk_r245_diverging_facing"
+
+
+class _Stations(NamedTuple):
+    """What :func:`forces._station_interval` and :func:`forces._blend_station` read."""
+
+    sc_start: float
+    sc_step: float
+    sc_stations: np.ndarray
+    sc_index: np.ndarray
+    sc_side: np.ndarray
+    sc_tab: np.ndarray
+    sc_base: np.ndarray
+    sc_cache: np.ndarray
+    sc_key: np.ndarray
+    sc_t: np.ndarray
+
+
+#: The force function's station search and blend compiled here with its flags but without
+#: numba's cache: a cached overload for this module's type would be pickled into the package's
+#: cache index, which other processes (without this test module) could not load.
+_FLAGS = {k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"}
+_station_interval = numba.njit(**_FLAGS)(forces._station_interval.py_func)
+_blend_station = numba.njit(**_FLAGS)(forces._blend_station.py_func)
+
+
+def _data(fields: dict) -> _Stations:
+    return _Stations(**{k: fields[k] for k in _Stations._fields})
+
+
+def _old_interval(s: float, start: float, step: float, n: int) -> tuple[int, float]:
+    """The blend's interval and fraction as computed before issue 29's station array."""
+    u = (s - start) / step
+    if u >= 0.0 and u <= n - 1.0:
+        i = min(int(u), n - 2)
+        return i, u - i
+    return -1, 0.0
+
+
+def _blended(d: _Stations, i: int, t: float, side: int) -> np.ndarray:
+    _blend_station(d, 0, i, t, side)
+    return d.sc_cache[0, d.sc_side[side]].copy()
+
+
+@pytest.fixture(scope="module")
+def switch_zone():
+    """The turnout's switch panel alone at 0.25 m stations (a small store)."""
+    sets = ["turnout.panels=switch", "turnout.station_step=0.25 m"]
+    track = load_track(TURNOUT, sets)
+    geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
+    return track.variable_rails, geometry
+
+
+def test_uniform_zone_blends_as_before_to_the_last_bit(switch_zone):
+    rails, geometry = switch_zone
+    fields = sc_kernel_fields(rails, geometry, 5.0e-4)
+    assert rails.uniform and fields["sc_step"] == rails.station_step_m
+    d = _data(fields)
+    n = d.sc_index.shape[0]
+    lo, hi = d.sc_stations[0], d.sc_stations[-1]
+    rng = np.random.default_rng(29)
+    s_all = np.concatenate([
+        rng.uniform(lo - 0.5, hi + 0.5, 400), d.sc_stations, d.sc_stations + 1e-9,
+        np.nextafter(d.sc_stations, -np.inf), [lo, hi, np.nan],
+    ])  # fmt: skip
+    side = int(np.flatnonzero(d.sc_side >= 0)[0])
+    for s in s_all:
+        before = _old_interval(float(s), fields["sc_start"], rails.station_step_m, n)
+        after = _station_interval(d, float(s))
+        assert after[0] == before[0] and (after[0] < 0 or after[1] == before[1]), (s, after)
+        if before[0] >= 0:
+            d.sc_key[:] = -1  # recopy the bound columns: a fresh blend each time
+            old = _blended(d, before[0], before[1], side)
+            d.sc_key[:] = -1
+            new = _blended(d, *after, side)
+            assert np.array_equal(old, new), s
+
+
+def test_parts_of_their_own_step_give_the_union_of_grids():
+    track = load_track(TURNOUT, ["turnout.crossing_station_step=10 mm"])
+    rails = track.variable_rails
+    lo, hi = rails.zone_m()
+    (a, b, h), = rails.station_steps_m  # fmt: skip
+    assert h == 0.01 and lo < a < b == hi  # the crossing panel ends the zone (facing)
+    x = rails.stations_m()
+    assert x[0] == lo and x[-1] == hi and a in x and b in x
+    assert np.all(np.diff(x) > SAME_STATION_M)
+    inside, outside = x[x >= a], x[x <= a]
+    # the crossing's grid from its first slice, every 10 mm, its last slice included
+    k = np.arange(inside.size - 1)
+    np.testing.assert_allclose(inside[:-1], a + h * k, rtol=0, atol=1e-12)
+    assert 0.0 < inside[-1] - inside[-2] <= h + 1e-12
+    # the default 50 mm grid from the zone's start up to the crossing panel
+    np.testing.assert_allclose(outside[:-1], lo + 0.05 * np.arange(outside.size - 1), atol=1e-12)
+    assert 0.0 < a - outside[-2] <= 0.05
+    # the same without the part: the uniform grid, 50 mm from the zone's start
+    plain = load_track(TURNOUT).variable_rails
+    np.testing.assert_array_equal(
+        plain.stations_m(), lo + 0.05 * np.arange(plain.stations_m().size)
+    )
+    assert x.size == outside.size - 1 + inside.size
+    # a switch part as well: both parts' ends are stations
+    both = load_track(TURNOUT, ["turnout.switch_station_step=0.1 m",
+                                "turnout.crossing_station_step=20 mm"]).variable_rails  # fmt: skip
+    xs = both.stations_m()
+    assert len(both.station_steps_m) == 2
+    for a2, b2, _ in both.station_steps_m:
+        assert a2 in xs and b2 in xs
+
+
+def test_blend_fraction_at_and_between_non_uniform_stations(switch_zone):
+    rails, geometry = switch_zone
+    lo, hi = rails.zone_m()
+    fine = VariableRails(
+        left=rails.left, right=rails.right, start_m=rails.start_m, station_step_m=0.25,
+        x_max_m=rails.x_max_m, station_steps_m=((lo + 1.0, lo + 1.6, 0.1),),
+    )  # fmt: skip
+    fields = sc_kernel_fields(fine, geometry, 5.0e-4)
+    assert fields["sc_step"] == 0.0
+    d = _data(fields)
+    x = d.sc_stations
+    np.testing.assert_array_equal(x, fine.stations_m())
+    assert x.size == d.sc_index.shape[0]
+    j = int(np.searchsorted(x, lo + 1.0))
+    expected = [0.75, 1.0, 1.1, 1.2, 1.3, 1.4, 1.5, 1.6, 1.75]
+    np.testing.assert_allclose(x[j - 1 : j + 8] - lo, expected, atol=1e-12)
+    side = int(np.flatnonzero(d.sc_side >= 0)[0])
+    for i in range(x.size - 1):
+        assert _station_interval(d, float(x[i])) == (i, 0.0)
+        mid = 0.5 * (x[i] + x[i + 1])
+        k, t = _station_interval(d, float(mid))
+        assert k == i and t == pytest.approx(0.5, abs=1e-12)
+        # at a station the blend is that station's table (base columns), to the last bit
+        d.sc_key[:] = -1
+        table = _blended(d, i, 0.0, side)
+        base = d.sc_base[d.sc_index[i, side]]
+        assert np.array_equal(table[:, : base.shape[1]], base)
+    assert _station_interval(d, float(x[-1])) == (x.size - 2, 1.0)
+    for s in (x[0] - 1e-9, x[-1] + 1e-9, np.nan):
+        assert _station_interval(d, float(s))[0] == -1
+
+
+@pytest.mark.parametrize(
+    ("line", "expected"),
+    [
+        ("  crossing_station_step: 0 m", "turnout.crossing_station_step"),
+        ("  switch_station_step: 2 m", "turnout.switch_station_step"),
+        ("  crossing_station_step: 0.05 mm", "turnout.crossing_station_step"),
+        ("  crossing_step: 10 mm", "crossing_step"),
+    ],
+)
+def test_bad_panel_step_refused_with_file_line_and_key(tmp_path, line, expected):
+    design = ROOT / "tracks" / "turnouts" / "uk_56e1_r245_1v9.25.yaml"
+    text = (
+        "format_version: 1\nname: t\nrail_profile: MBench_UIC60\nturnout:\n"
+        f"  design: {design}\n  route: through\n  direction: facing\n{line}\n"
+    )
+    p = tmp_path / "t.yaml"
+    p.write_text(text)
+    with pytest.raises(InputError) as err:
+        load_track(p)
+    message = str(err.value)
+    assert "t.yaml" in message and expected in message and "8" in message, message
+
+
+def test_variable_rails_parts_refused():
+    rails = load_track(TURNOUT, ["turnout.panels=switch"]).variable_rails
+    lo, _ = rails.zone_m()
+    for parts, expected in (
+        (((lo, lo + 1.0, 0.0),), "0.1 mm .. 1 m"),
+        (((lo + 1.0, lo, 0.01),), "from < to"),
+        (((lo, lo + 1.0, 0.01), (lo + 0.5, lo + 2.0, 0.02)), "overlap"),
+    ):
+        with pytest.raises(InputError, match=expected):
+            VariableRails(left=rails.left, right=rails.right, start_m=rails.start_m,
+                          station_steps_m=parts)  # fmt: skip
+
+
+def test_non_uniform_store_keeps_the_plain_rail_once():
+    """The whole turnout with a finer crossing: the plain stretch between the panels (and the
+    side without a switch panel up to the check rail) reads one row per side, as uniform."""
+    sets = ["turnout.station_step=0.5 m", "turnout.crossing_station_step=0.25 m"]
+    track = load_track(TURNOUT, sets)
+    rails = track.variable_rails
+    geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
+    fields = sc_kernel_fields(rails, geometry, 5.0e-4)
+    x = fields["sc_stations"]
+    assert fields["sc_step"] == 0.0 and x.size == fields["sc_index"].shape[0]
+    route_side = next(p for p in rails.sides() if p is not None and len(p.panels) == 2)
+    switch_end = rails.start_m + route_side.panels[0].range_m[1]  # facing: the toe first
+    crossing_start = rails.station_steps_m[0][0]
+    plain = (x > switch_end + 0.5) & (x < crossing_start - 0.5)
+    assert plain.sum() > 10
+    for k in range(2):
+        if fields["sc_side"][k] >= 0:
+            assert np.unique(fields["sc_index"][plain, k]).size == 1
+    assert fields["sc_tab"].shape[0] < 0.5 * 2 * x.size
