@@ -194,7 +194,9 @@ def test_run_report_in_chromium(run_folder, tmp_path):
     images = int(re.search(r'data-images="(\d+)"', dom).group(1))
     decoded = int(re.search(r'data-decoded="(\d+)"', dom).group(1))
     assert images >= 5 and decoded == images  # two animations and the figures, all decoded
-    assert dom.count("<table") == 5 and "Results" in dom and "Assessment" in dom
+    # inputs, settings, results, the solver's step facts, the assessment, ride comfort
+    assert dom.count("<table") == 6 and "Results" in dom and "Assessment" in dom
+    assert "Solver" in dom
     shot = tmp_path / "run_report.png"
     done = _chromium(run_folder / "report.html", tmp_path, f"--screenshot={shot}",
                      "--window-size=1200,1800")  # fmt: skip
