@@ -83,11 +83,13 @@ def sc_columns(
         y_rail = points[:, :, side, :, K.PF_YRAIL] - origin_y
         s_rel = s_ws_m - rails.start_m
         # where the model reads the stations' tables (model/sc_tables.py: first slice onwards,
-        # every station_step, the last at or before the last slice; with parts of their own
-        # step, the zone's last slice); the plain rail outside
+        # every station_step, the last at or before the side's last slice; with parts of their
+        # own step, the zone's last station at or before the side's last slice: the zone's
+        # stations serve both sides, whose slices may end apart); the plain rail outside
         last = lo + max(np.floor((hi - lo) / rails.station_step_m), 1.0) * rails.station_step_m
         if not rails.uniform:
-            last = float(rails.stations_m()[-1]) - rails.start_m
+            stations = rails.stations_m() - rails.start_m
+            last = float(stations[stations <= hi + 1e-9][-1])
         inside = (s_rel >= lo) & (s_rel <= last)
         which = np.zeros((n, n_ws, K.MAX_POINTS), dtype=np.int64)
         ask = loaded[:, :, side] & inside[:, :, None]

@@ -127,23 +127,25 @@ def turnout_from_dict(
         left=side.get("left"), right=side.get("right"), start_m=start,
         station_step_m=step,
         x_max_m=design["effective_length"],
-        station_steps_m=panel_station_steps(spans, t),
+        station_steps_m=panel_station_steps(spans, t, step),
     )  # fmt: skip
     geometry_section = {"type": "sections", "sections": [dict(p) for p in layout.sections]}
     return geometry_section, rails, layout
 
 
 def panel_station_steps(
-    spans: dict[str, list[tuple[float, float]]], t: dict
+    spans: dict[str, list[tuple[float, float]]], t: dict, default_step_m: float
 ) -> tuple[tuple[float, float, float], ...]:
     """The parts of the zone with their own station step (``turnout.switch_station_step``,
     ``crossing_station_step``): ``(from, to, step)`` [m] over each panel's slices in track
     distances (``spans``: per panel kind its panels' ranges; the crossing's: its wing rail and
-    nose and the check rail together)."""
+    nose and the check rail together). A panel's step equal to the zone's ``default_step_m``
+    (``station_step``) is no part of its own: the zone stays uniform (the stations every
+    ``station_step`` from its start)."""
     parts = []
     for kind, ranges in spans.items():
         step = t[f"{kind}_station_step"]
-        if step is not None and ranges:
+        if step is not None and ranges and step != default_step_m:
             parts.append((min(a for a, _ in ranges), max(b for _, b in ranges), step))
     return tuple(parts)
 
