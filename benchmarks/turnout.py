@@ -8,12 +8,12 @@ the ratios turnout / plain. Both runs in this process, the plain one first (the 
 kernels loaded before either is timed: a warm-up run of 1 m first).
 
 Run: ``python benchmarks/turnout.py [vehicle] [route] [direction] [--speed 10] [--step-m 0.05]
-[--crossing-step-m 0.01]`` (defaults: hbbins_loaded, diverging, facing, 10 m/s, the design's 50
-mm stations; ``--crossing-step-m``: the crossing panel's own,
-``turnout.crossing_station_step``). The run starts 12 m before the first panel (the longest
-wagon's wheelbase) and ends 3 m beyond the last rail of the turnout; ``--panels switch`` or
-``crossing`` times a shorter zone. Timings vary by tens of percent on a shared machine; compare
-the ratio of one run of this script.
+[--crossing-step-m 0.01]`` (defaults: hbbins_loaded, diverging, facing, 10 m/s, the track
+file's stations: the design's 50 mm, 20 mm over the crossing panel; ``--crossing-step-m``:
+another for the crossing panel, ``turnout.crossing_station_step``). The run starts 12 m before
+the first panel (the longest wagon's wheelbase) and ends 3 m beyond the last rail of the
+turnout; ``--panels switch`` or ``crossing`` times a shorter zone. Timings vary by tens of
+percent on a shared machine; compare the ratio of one run of this script.
 
 ``--store``: only the station store's build, before and after issue 29's sharing (every
 station's table computed and stored, against the plain rail's computed once and stored in one

@@ -5,8 +5,9 @@ transfer from wing rail to nose, the largest Tgamma per rail; the integration ti
 Run: ``python benchmarks/turnout_vehicles.py [--panels both] [--step-m 0.05] [--time-step 0.4e-3]
 [--crossing-step-m 0.01] [--vehicles a,b] [--routes through_facing,diverging_trailing]
 [--save DIR]`` (defaults: every vehicle in ``vehicles/``, the four tracks, the whole turnout
-(switch panel, whole crossing, check rail) at the design's 50 mm stations, the crossing panel's
-own with ``--crossing-step-m``, a 0.4 ms step with every step recorded: the default
+(switch panel, whole crossing, check rail) at the track files' stations: the design's 50 mm,
+20 mm over the crossing panel (``turnout.crossing_station_step``; printed per route; another
+with ``--crossing-step-m``), a 0.4 ms step with every step recorded: the default
 2 ms moves a wheel 20 mm per step at 10 m/s, longer than a crossing's impact,
 docs/switches-and-crossings.md). Each run starts on straight track 3 m plus the wheelbase
 before the first rail of the turnout met and ends 3 m beyond its last, at 10 m/s, centred.
@@ -214,6 +215,16 @@ def text_line(line: dict) -> str:
             f"{line['timings_s']['integration_s']:.1f} s")  # fmt: skip
 
 
+def stations_text(route: str, sets: list[str]) -> str:
+    """The route's stations in words: the zone's step, each part's own step and range (track
+    distance [m], ``turnout.crossing_station_step``) and the count, as the runs build them."""
+    file = ROOT / "tracks" / f"turnout_uk_r245_{route}.yaml"
+    zone = load_track(file, [*sets, "turnout.approach=60 m"]).variable_rails
+    parts = "".join(f", {h * 1e3:g} mm over {lo:.2f} .. {hi:.2f} m"
+                    for lo, hi, h in zone.station_steps_m)  # fmt: skip
+    return f"stations every {zone.station_step_m * 1e3:g} mm{parts}: {zone.stations_m().size}"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--panels", default="both", choices=("both", "switch", "crossing"))
@@ -236,7 +247,7 @@ def main() -> None:
         a.save.mkdir(parents=True, exist_ok=True)
     kw = {"time_step_s": a.time_step, "output_interval_s": a.time_step}
     print(f"panels {a.panels}, stations {a.step_m or 'design'} (crossing: "
-          f"{a.crossing_step_m or 'the same'}), step {a.time_step * 1e3:g} ms, "
+          f"{a.crossing_step_m or 'the track file'}), step {a.time_step * 1e3:g} ms, "
           "10 m/s")  # fmt: skip
     print(f"{'vehicle':26s} {'track':19s} {'state':10s} | per panel: rail, largest Q [kN] "
           "(Tgamma per crossing rail [N]) | integration [s]")  # fmt: skip
@@ -248,6 +259,7 @@ def main() -> None:
             print(text_line(line), " (saved)", flush=True)
     cache = TableCache()
     for route in a.routes.split(","):  # the tables shared by the vehicles with one wheel
+        print(f"{route}: {stations_text(route, sets)}", flush=True)
         for name in sorted(names, key=lambda n: load_vehicle(
                 ROOT / "vehicles" / f"{n}.yaml").wheelsets[0].nominal_radius_m):  # fmt: skip
             if (name, route) not in done:
