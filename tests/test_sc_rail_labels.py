@@ -86,6 +86,10 @@ def test_the_nose_ahead_of_the_axle_carries(crossing_track):
     y = np.array([-0.027])
     assert rail_index(profile, s, y).tolist() == [1]
     assert carrier_rails(profile, np.array([s]), y, np.array([0.46]), 0.06).tolist() == [0]
+    # the carrying station is the nose's, ahead of the axle within the effective section; it
+    # names the panel (sc_outputs: a point carried past a panel's last slice is the plain rail's)
+    rail, at = carrier_rails(profile, np.array([s]), y, np.array([0.46]), 0.06, with_station=True)
+    assert rail.tolist() == [0] and NOSE_START_M - 0.0025 <= at[0] <= s + 0.06 + 1e-9
 
 
 def test_switch_panel_and_check_rail(turnout):

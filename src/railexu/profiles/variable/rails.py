@@ -50,7 +50,8 @@ def carrier_rails(
     y_m: np.ndarray,
     radius_m: np.ndarray,
     x_max_m: float,
-) -> np.ndarray:
+    with_station: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Index (0, 1) of the rail that carries each contact point of a wheel: axle at the
     profile's position ``s_m`` [m], point at lateral ``y_m`` [m] (the profile's axes), wheel
     radius there ``radius_m`` [m] (arrays of one length). The wheel's circle over ``y`` meets
@@ -60,12 +61,15 @@ def carrier_rails(
     found the point on; a rising nose is touched ~ 46 mm ahead of the axle). The stations are
     those of a grid every :data:`CARRIER_STEP_M` along the track, the top surface is read every
     :data:`CARRIER_DY_M` laterally (the point's nearest); where no rail lies over ``y`` at any
-    station searched, the rail nearest laterally at the station nearest the axle."""
+    station searched, the rail nearest laterally at the station nearest the axle.
+    ``with_station``: also the carrying station's position [m] (the profile's ``s``), whose
+    panel names the rail (a point carried past a panel's last slice is the plain rail's)."""
     s = np.asarray(s_m, dtype=float).ravel()
     y = np.asarray(y_m, dtype=float).ravel()
     r = np.asarray(radius_m, dtype=float).ravel()
     if s.size == 0:
-        return np.zeros(0, dtype=np.int64)
+        empty = np.zeros(0, dtype=np.int64)
+        return (empty, np.zeros(0)) if with_station else empty
     y_grid = np.arange(y.min() - CARRIER_DY_M, y.max() + 1.5 * CARRIER_DY_M, CARRIER_DY_M)
     j = np.clip(np.rint((y - y_grid[0]) / CARRIER_DY_M).astype(np.int64), 0, y_grid.size - 1)
     n = int(np.floor(x_max_m / CARRIER_STEP_M + 1e-9))
@@ -87,7 +91,12 @@ def carrier_rails(
     rows = np.arange(s.size)
     which = lab_tab[inverse[rows, k], j]
     axle = lab_tab[inverse[rows, n], j]  # the station nearest the axle (x within a half step)
-    return np.where(np.isfinite(score[rows, k]), which, axle).astype(np.int64)
+    found = np.isfinite(score[rows, k])
+    rail = np.where(found, which, axle).astype(np.int64)
+    if not with_station:
+        return rail
+    carrying = np.where(found, station[rows, k], station[rows, n]) * CARRIER_STEP_M
+    return rail, carrying
 
 
 def panel_at(profile: VariableProfile | ZonedProfile, s_m: float) -> int:
