@@ -99,15 +99,13 @@ def sc_columns(
                                                rails.x_max_m, with_station=True)  # fmt: skip
         # the panel whose rails carry the wheel: the carrying station's of its most loaded
         # point (a point carried past a panel's last slice is the plain rail's), else the axle's
-        panel = np.array([[panel_at(profile, float(v)) for v in row] for row in s_rel])
         station = np.full(ask.shape, np.nan)
         station[ask] = carried_at
         load = np.where(ask, points[:, :, side, :, K.PF_FTZ], -np.inf)
-        top = np.argmax(load, axis=-1)
-        has = np.isfinite(np.take_along_axis(load, top[..., None], axis=-1)[..., 0])
-        top_s = np.take_along_axis(station, top[..., None], axis=-1)[..., 0]
-        for a, b in zip(*np.nonzero(has), strict=True):
-            panel[a, b] = panel_at(profile, float(top_s[a, b]))
+        top = np.argmax(load, axis=-1)[..., None]
+        has = np.isfinite(np.take_along_axis(load, top, axis=-1)[..., 0])
+        top_s = np.take_along_axis(station, top, axis=-1)[..., 0]
+        panel = panel_at(profile, np.where(has, top_s, s_rel))
         for r in range(N_RAILS):
             on = loaded[:, :, side] & (which == r)
             q = np.where(on, points[:, :, side, :, K.PF_FTZ], 0.0)

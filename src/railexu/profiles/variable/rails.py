@@ -99,18 +99,17 @@ def carrier_rails(
     return rail, carrying
 
 
-def panel_at(profile: VariableProfile | ZonedProfile, s_m: float) -> int:
-    """The panel a position ``s_m`` [m] lies in: 1, 2, ... in the order of
+def panel_at(profile: VariableProfile | ZonedProfile, s_m: np.ndarray) -> np.ndarray:
+    """The panel each position ``s_m`` [m] (any shape) lies in: 1, 2, ... in the order of
     :func:`panel_names` (a plain variable profile is one panel), 0 outside every panel (the
-    plain rail)."""
-    if isinstance(profile, ZonedProfile):
-        for k, p in enumerate(profile.panels):
-            lo, hi = p.range_m
-            if lo <= s_m <= hi:
-                return k + 1
-        return 0
-    lo, hi = profile.s_range_m
-    return 1 if lo <= s_m <= hi else 0
+    plain rail) and at NaN."""
+    s = np.asarray(s_m, dtype=float)
+    ranges = ([p.range_m for p in profile.panels] if isinstance(profile, ZonedProfile)
+              else [profile.s_range_m])  # fmt: skip
+    out = np.zeros(s.shape, dtype=np.int64)
+    for k, (lo, hi) in reversed(list(enumerate(ranges))):  # the first panel wins a shared end
+        out[(s >= lo) & (s <= hi)] = k + 1
+    return out
 
 
 def panel_names(profile: VariableProfile | ZonedProfile) -> list[dict[str, object]]:
