@@ -135,6 +135,8 @@ def test_overrides_and_the_quick_variant(tmp_path):
         (("    method: one_dimensional\n", "    method: two_dimensional\n"),
          "straight zone", "zones.straight"),
         (("    n_sections: 6\n", "    n_sections: 4\n"), "min_sections", "zones.curves"),
+        (("prediction_quantile: 0.95}", "prediction_quantile: 0.95, stability_method: normall}"),
+         "not one of", "statistics.stability_method"),
     ],
 )  # fmt: skip
 def test_bad_files_are_refused_naming_file_line_and_key(tmp_path, change, message, where):

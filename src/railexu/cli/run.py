@@ -168,8 +168,9 @@ def _wear_law(text: str | None) -> str | None:
         return None
     name = text.strip().lower()
     if name not in WEAR_LAWS:
-        raise CliError(f"--wear {text!r}: unknown wear law.{did_you_mean(name, WEAR_LAWS)} "
-                       f"Known: {', '.join(WEAR_LAWS)}")  # fmt: skip
+        hint = did_you_mean(name, WEAR_LAWS)  # a close name, else the known ones
+        known = "" if "Known:" in hint else f" Known: {', '.join(WEAR_LAWS)}"
+        raise CliError(f"--wear {text!r}: unknown wear law.{hint}{known}")
     return name
 
 
