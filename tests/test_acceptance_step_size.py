@@ -79,7 +79,7 @@ def _assert_agree(coarse: dict, fine: dict) -> list[str]:
         tol = TOLERANCE.get(name, PEAK_TOLERANCE)
         assert v2 == pytest.approx(v1, rel=tol), name
         compared.append(name)
-    assert {"Y_over_Q_2m", "sum_Y_2m", "Q_max", "Y_qst", "Q_qst"} <= set(compared)
+    assert {"Y_over_Q_2m", "sum_Y_2m", "Q_max", "Y_qst", "Q_qst", "sum_Y_rms"} <= set(compared)
     return compared
 
 
