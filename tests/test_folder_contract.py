@@ -404,3 +404,28 @@ def test_railexu_run_terminated_while_integrating_writes_a_complete_folder(tmp_p
     assert _manifest(out)["complete"] is True
     _no_temporary_files(out)
     assert main(["report", str(out), "--quiet"]) == 0
+
+
+def test_a_refused_run_leaves_no_folder_behind(tmp_path, capsys):
+    """Bad input found after the folder was prepared (a vehicle file with an unknown key) is
+    refused with exit 2, and the folder the job created for it, with its parents, is gone; an
+    existing folder stays."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: x\nunknown_key: 1\n", encoding="utf-8")
+    out = tmp_path / "new" / "run"
+    assert main(["run", str(bad), "--out", str(out), "--quiet", "--no-plots"]) == 2
+    assert "unknown_key" in capsys.readouterr().err
+    assert not (tmp_path / "new").exists()
+    kept = tmp_path / "kept"
+    kept.mkdir()
+    assert main(["run", str(bad), "--out", str(kept), "--quiet", "--no-plots"]) == 2
+    assert kept.is_dir()
+
+
+def test_a_folder_prepared_and_released_untouched_is_removed_only_if_created(tmp_path):
+    made = tmp_path / "a" / "b"
+    OutputFolder(made, "run").prepare().release()
+    assert not (tmp_path / "a").exists()
+    with OutputFolder(made, "run") as folder:  # a job that writes: kept and complete
+        folder.write_text("x.txt", "1")
+    assert (made / "x.txt").is_file() and _manifest(made)["complete"] is True

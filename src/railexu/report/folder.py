@@ -109,9 +109,11 @@ class OutputFolder:
         self._listed: set[str] = set()  # the files of the incomplete manifest
         self._marked = False
         self._previous: bytes | None = None  # the manifest before this job marked the folder
+        self._created: list[Path] = []  # the folders prepare() made, deepest first
 
     def prepare(self) -> OutputFolder:
         """Check, create and lock the folder; refuse one that holds another kind of output."""
+        self._created = [p for p in (self.path, *self.path.parents) if not p.exists()]
         check_writable_folder(self.path, self.option)
         self._refuse_other_kinds()
         self._lock = _lock(self.path)
@@ -204,9 +206,20 @@ class OutputFolder:
         _write_manifest(self.path, manifest)
 
     def release(self) -> None:
+        """Unlock the folder. A folder this job created and left untouched (its input was
+        refused before anything was written) is removed again, with the parents it created:
+        a refused job leaves no empty folder behind."""
         if self._lock is not None:
             _unlock(self._lock)
             self._lock = None
+        if self._created and not self._marked and not self.written:
+            (self.path / LOCK_FILE).unlink(missing_ok=True)
+            for folder in self._created:
+                try:
+                    folder.rmdir()  # only if empty: never a file another process put there
+                except OSError:
+                    break
+        self._created = []
 
     def _refuse_other_kinds(self) -> None:
         recorded = _read_manifest_kind(self.path)
