@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from railexu.errors import InputError
 from railexu.profiles import rail_profile
 from railexu.profiles.variable import VariableProfile
 from railexu.profiles.variable.slices import ProfileSlices
@@ -123,3 +124,19 @@ def test_rail_masses_balance_the_wheel_loads_through_the_crossing(crossing_run):
     # the rail moved under the crossing's dips by a fraction of a millimetre
     dz = np.asarray(ts["ws1_left_rail_vertical_m"])
     assert 1e-5 < np.max(np.abs(dz)) < 2e-3
+
+
+def test_a_turnout_track_takes_the_elastic_track_by_override():
+    """A turnout track file has no ``track_model``: ``track_model=elastic`` (or a mapping) adds
+    it; ``track_model.type=elastic`` (a key in the middle of the path that the file lacks) is
+    refused with the override that works."""
+    track = load_track("turnout_uk_r245_diverging_trailing", ["track_model=elastic"])
+    assert track.elastic == ElasticTrack()
+    assert track.variable_rails is not None
+    track = load_track("turnout_uk_r245_diverging_trailing",
+                       ["track_model={type: elastic, rail_mass: 100 kg}"])  # fmt: skip
+    assert track.elastic.rail_mass_kg == 100.0
+    with pytest.raises(
+        InputError, match=r"no key 'track_model' here.*track_model=\{type: elastic\}"
+    ):
+        load_track("turnout_uk_r245_diverging_trailing", ["track_model.type=elastic"])
