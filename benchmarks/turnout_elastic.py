@@ -3,12 +3,13 @@
 Reads the runs ``benchmarks/turnout_spikes.py --save DIR`` keeps (rigid, and ``--elastic``:
 ``track_model: elastic`` with its defaults, one co-running rail mass per rail and wheelset) and
 prints per case and window the peak Q, its time above half the peak, the impulse above Q0
-(``turnout_spikes.analyse``), the 20 Hz value (EN 14363's filter), and on elastic track the
-largest Q low-passed at 100 Hz (the P2 band: P2 passes, P1 is removed) and the rail mass's
-largest deflection; beside them Jenkins et al.'s estimates (Jenkins, Stephenson, Clayton,
-Morland & Lyon 1974, *The effect of track and vehicle parameters on wheel/rail vertical dynamic
-forces*, Railway Engineering Journal 3, 2-16) for a slope change ``2 alpha`` of the wheel's path
-at speed ``V``:
+(``turnout_spikes.analyse``), the 20 Hz value (EN 14363's filter), the largest Q low-passed at
+100 Hz (the P2 band: P2 passes, P1 is removed), the dominant frequency of the Q above 100 Hz
+near the peak (P1's band) and of the Q band-passed at 10-150 Hz near the 100 Hz peak (P2's),
+and on elastic track the rail mass's deflection in the window; beside them Jenkins et al.'s
+estimates (Jenkins, Stephenson, Clayton, Morland & Lyon 1974, *The effect of track and vehicle
+parameters on wheel/rail vertical dynamic forces*, Railway Engineering Journal 3, 2-16) for a
+slope change ``2 alpha`` of the wheel's path at speed ``V``:
 
     P1 = P0 + 2 alpha V sqrt(k_H m_t / (1 + m_t / m_u))
     P2 = P0 + 2 alpha V sqrt(m_u / (m_u + m_t)) (1 - c_t pi / (4 sqrt(k_t (m_u + m_t))))
@@ -27,7 +28,9 @@ shows"): where the wing rail's field side rises (s = -0.71 to -0.63 m) the rigid
 0.62 mm over 68 mm (9.1 mrad on average, up to 15 mrad between slices): facing the ramp's foot
 is a concave kink, trailing the wheel comes down the ramp and meets its foot; the transfer
 between wing rail and nose (s = 276 mm): the wheel descends 7.2 mrad on the wing rail and rises
-10.7 mrad on the nose, 2 alpha = 17.9 mrad (trailing the same, mirrored).
+10.7 mrad on the nose, 2 alpha = 17.9 mrad (trailing the same, mirrored); the nose's end, where
+its raised field side falls back to the plain rail: the wheel drops 0.65 mm between s = 1.88
+and 1.94 m, 10.8 mrad (trailing: a rise of the same slope).
 
 Run: ``python benchmarks/turnout_spikes.py --vehicle wheelset --route through_facing
 [--elastic] --steps 0.4e-3,0.2e-3 --save DIR`` and the same for ``--vehicle hbbins_loaded
@@ -48,7 +51,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from turnout_spikes import CROSSING_S0_M, Y_C_M, analyse, hertz_constant  # noqa: E402
 from turnout_vehicles import ROOT, panel_ranges  # noqa: E402
 
-from railexu.assessment.filters import lowpass  # noqa: E402
+from railexu.assessment.filters import bandpass, lowpass  # noqa: E402
 from railexu.simulation.simulate import wheelset_order  # noqa: E402
 from railexu.track.elastic import ElasticTrack  # noqa: E402
 from railexu.track.track import load_track  # noqa: E402
@@ -59,11 +62,23 @@ SPEED_M_PER_S = 10.0
 CASES = (
     ("wheelset", "through_facing", "s < 0: the wing rail's ramp", (-1.0, 0.0), (9.1e-3, 15e-3)),
     ("wheelset", "through_facing", "0-1 m: the nose", (0.0, 1.0), (17.9e-3, 17.9e-3)),
+    ("wheelset", "through_facing", "> 1 m: the nose's end", (1.0, 2.3), (10.8e-3, 10.8e-3)),
     ("hbbins_loaded", "diverging_trailing", "s < 0: the ramp's foot", (-1.0, 0.0),
      (9.1e-3, 15e-3)),
     ("hbbins_loaded", "diverging_trailing", "0-1 m: nose to wing rail", (0.0, 1.0),
      (17.9e-3, 17.9e-3)),
+    ("hbbins_loaded", "diverging_trailing", "> 1 m: the nose's end", (1.0, 2.3),
+     (10.8e-3, 10.8e-3)),
 )  # fmt: skip
+
+
+def dominant_Hz(t: np.ndarray, x: np.ndarray, k: int, half_s: float) -> float:
+    """The largest peak of ``x``'s spectrum (Hann window) within ``half_s`` of sample ``k``."""
+    near = np.abs(t - t[k]) <= half_s
+    fs = 1.0 / float(np.median(np.diff(t)))
+    n = 1 << 16
+    spectrum = np.abs(np.fft.rfft(x[near] * np.hanning(int(near.sum())), n=n))
+    return float(np.fft.rfftfreq(n, 1.0 / fs)[np.argmax(spectrum)])
 
 
 def jenkins(p0_N: float, two_alpha: float, speed: float, k_h: float, m_u: float,
@@ -104,7 +119,10 @@ def main() -> None:
         print(f"== {vname}, {route}, {label}; m_u {m_u:.0f} kg")
         for step in (float(s) for s in a.steps.split(",")):
             for tag in ("", "_elastic"):
-                d = np.load(a.saved / f"{vname}_{route}_crossing_{step:g}ms{tag}.npz")
+                path = a.saved / f"{vname}_{route}_crossing_{step:g}ms{tag}.npz"
+                if not path.exists():
+                    continue
+                d = np.load(path)
                 ts = {k: d[k] for k in d.files}
                 r = analyse(ts, d["points"], vehicle, side, lo, hi, s0, facing)
                 w = 0 if side == "left" else 1
@@ -117,12 +135,15 @@ def main() -> None:
                 q = np.asarray(ts[f"ws{r['ws']}_{side}_Q_N"])
                 s = np.asarray(ts[f"ws{r['ws']}_s_m"])
                 win = (s >= lo) & (s <= hi)
-                extra = ""
+                q100 = lowpass(q, fs, 100.0)
+                k1 = int(np.flatnonzero(win)[np.argmax(q100[win])])
+                f_p1 = dominant_Hz(t, q - q100, r["k"], 0.01)
+                f_p2 = dominant_Hz(t, bandpass(q, fs, 10.0, 150.0), k1, 0.05)
+                extra = (f"  100 Hz {q100[k1] / 1e3:6.1f} kN, above 100 Hz {f_p1:.0f} Hz, "
+                         f"10-150 Hz {f_p2:.0f} Hz")  # fmt: skip
                 if tag:
-                    q100 = lowpass(q, fs, 100.0)[win].max()
                     z = np.asarray(ts[f"ws{r['ws']}_{side}_rail_vertical_m"])[win]
-                    extra = (f"  100 Hz {q100 / 1e3:6.1f} kN  rail z {z.min() * 1e3:+.3f} .. "
-                             f"{z.max() * 1e3:+.3f} mm")  # fmt: skip
+                    extra += f"  rail z {z.min() * 1e3:+.3f} .. {z.max() * 1e3:+.3f} mm"
                 air = r.get("air_ms", 0.0)
                 print(f"  {step:g} ms {'elastic' if tag else 'rigid  '}: peak {r['Q_N'] / 1e3:6.1f}"
                       f" kN at s {r['s_slices_m']:+.4f} m, above half-peak {r['wide_ms']:.2f} ms,"
