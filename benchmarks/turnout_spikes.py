@@ -25,10 +25,15 @@ lands, ``v`` its vertical velocity there (both in the track frame, the wheel's h
 0.75 phi``); ``E`` from ``v`` is the one used, ``Q0 h`` printed beside it.
 
 Run: ``python benchmarks/turnout_spikes.py [--vehicle hbbins_loaded] [--route
-diverging_trailing] [--panel crossing] [--steps 0.4e-3,0.2e-3,0.1e-3] [--save DIR]``; the run
+diverging_trailing] [--panel crossing] [--steps 0.4e-3,0.2e-3,0.1e-3] [--elastic] [--save
+DIR]``; the run
 goes from 3 m plus the wheelbase before the panel's first rail met to 2 m beyond its last
 (the panel alone, ``turnout.panels``; ``--track-panels both``: the whole turnout), 10 m/s,
 centred, on the turnout track's ``turnout.approach`` of 60 m as ``benchmarks/turnout_step.py``.
+``--elastic``: on elastic track (``track_model: elastic``, its defaults; the saved arrays get
+``_elastic`` in their names and keep the rail masses' deflections, velocities and
+accelerations; the Hertz estimate above stays a rigid track's); ``benchmarks/turnout_elastic.py``
+compares the two tracks against Jenkins et al.'s P1 and P2.
 """
 
 from __future__ import annotations
