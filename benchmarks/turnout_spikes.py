@@ -25,10 +25,15 @@ lands, ``v`` its vertical velocity there (both in the track frame, the wheel's h
 0.75 phi``); ``E`` from ``v`` is the one used, ``Q0 h`` printed beside it.
 
 Run: ``python benchmarks/turnout_spikes.py [--vehicle hbbins_loaded] [--route
-diverging_trailing] [--panel crossing] [--steps 0.4e-3,0.2e-3,0.1e-3] [--save DIR]``; the run
+diverging_trailing] [--panel crossing] [--steps 0.4e-3,0.2e-3,0.1e-3] [--elastic] [--save
+DIR]``; the run
 goes from 3 m plus the wheelbase before the panel's first rail met to 2 m beyond its last
 (the panel alone, ``turnout.panels``; ``--track-panels both``: the whole turnout), 10 m/s,
 centred, on the turnout track's ``turnout.approach`` of 60 m as ``benchmarks/turnout_step.py``.
+``--elastic``: on elastic track (``track_model: elastic``, its defaults; the saved arrays get
+``_elastic`` in their names and keep the rail masses' deflections, velocities and
+accelerations; the Hertz estimate above stays a rigid track's); ``benchmarks/turnout_elastic.py``
+compares the two tracks against Jenkins et al.'s P1 and P2.
 """
 
 from __future__ import annotations
@@ -183,9 +188,14 @@ def main() -> None:
     ap.add_argument("--rail", type=int, default=None, help="one rail's Q (1, 2): the wheel's")
     ap.add_argument("--save", type=Path, default=None, help="keep each run's arrays here")
     ap.add_argument("--reuse", type=Path, default=None, help="analyse the runs saved here")
+    ap.add_argument(
+        "--elastic", action="store_true", help="elastic track (track_model: elastic, defaults)"
+    )
     a = ap.parse_args()
     file = ROOT / "tracks" / f"turnout_uk_r245_{a.route}.yaml"
     sets = [f"turnout.panels={a.track_panels or a.panel}", "turnout.approach=60 m"]
+    if a.elastic:
+        sets.append("track_model=elastic")
     vehicle = load_vehicle(ROOT / "vehicles" / f"{a.vehicle}.yaml")
     x = [w.position_x_m for w in vehicle.wheelsets]
     lo, hi = load_track(file, sets).variable_rails.zone_m()
@@ -201,7 +211,8 @@ def main() -> None:
     print(f"{a.vehicle}, {a.route}, panel {a.panel} ({side} wheel), {distance:.1f} m at 10 m/s; "
           f"window {p_lo:.3f}-{p_hi:.3f} m (s = 0 at {s0:.3f} m)", flush=True)  # fmt: skip
     for step in (float(v) for v in a.steps.split(",")):
-        name = f"{a.vehicle}_{a.route}_{a.track_panels or a.panel}_{step * 1e3:g}ms.npz"
+        tag = "_elastic" if a.elastic else ""
+        name = f"{a.vehicle}_{a.route}_{a.track_panels or a.panel}_{step * 1e3:g}ms{tag}.npz"
         if a.reuse is not None:  # the saved run: analysed again
             d = np.load(a.reuse / name)
             ts, points = {k: d[k] for k in d.files}, d["points"]
@@ -218,7 +229,8 @@ def main() -> None:
             if a.save is not None:
                 a.save.mkdir(parents=True, exist_ok=True)
                 keep = {k: np.asarray(ts[k]) for k in ts.names if k == "time_s"
-                        or k.endswith(("_s_m", "_Q_N", "_vertical_m", "_roll_rad"))}  # fmt: skip
+                        or k.endswith(("_s_m", "_Q_N", "_vertical_m", "_roll_rad", "_m_per_s",
+                                               "_m_per_s2"))}  # fmt: skip
                 np.savez_compressed(a.save / name, points=points.astype(np.float32),
                                     facts=np.array(json.dumps(facts)), **keep)  # fmt: skip
         rail = f"rail{a.rail}_" if a.rail else ""

@@ -90,7 +90,22 @@ class _Assigner:
         elif last or part in node:
             self._step(node, part, parts, done, last)
         else:
-            self.fail(f"no key {part!r} here.{did_you_mean(part, node)}", here)
+            close = did_you_mean(part, node)
+            message = f"no key {part!r} here.{close}"
+            if not close.startswith(" Did you mean"):  # not a misspelling: a new section
+                message = message.rstrip(".") + "." + self._whole(parts, done)
+            self.fail(message, here)
+
+    def _whole(self, parts: list[str], done: list[Any]) -> str:
+        """The hint for a key the file lacks in the middle of the path: only the path's last
+        part may be new, so such a section is set whole (``track_model={type: elastic}``)."""
+        inner = str(self.value) if isinstance(self.value, str | int | float | bool) else "..."
+        for p in reversed(parts[len(done) + 1 :]):
+            inner = f"{{{p}: {inner}}}"
+        here = ".".join(str(p) for p in [*done, parts[len(done)]])
+        return (
+            f" A key the file lacks can only be the path's last part: set it whole, {here}={inner}"
+        )
 
     def _step(self, node, key, parts, done, last) -> None:
         if last:

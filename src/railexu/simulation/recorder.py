@@ -235,6 +235,9 @@ class Recorder:
         self.points = np.zeros((n_out, n_ws, 2, K.MAX_POINTS, _KEPT.size))
         self.body_q = np.zeros((n_out, self.i_body.size))
         self.rail_q = np.zeros((n_out, self.i_rail.size))
+        # the rail masses' velocities and accelerations (their force balance can be checked)
+        self.rail_qt = np.zeros_like(self.rail_q)
+        self.rail_qtt = np.zeros_like(self.rail_q)
         self.acc_q = np.zeros((n_out, self.i_acc.size))
         self.frame_s = np.zeros(n_out)
         self.frame_state = np.zeros((n_out, FR_SIZE))
@@ -269,6 +272,10 @@ class Recorder:
         )  # fmt: skip
         if not kept:
             return ("diverged", t, "the state became NaN or infinite")
+        if self._i_rail.size:
+            self.rail_qt[k] = np.asarray(qt)[self._i_rail]
+            if qtt is not None:
+                self.rail_qtt[k] = np.asarray(qtt)[self._i_rail]
         self.time[k] = t
         self.frame_s[k] = model.kernel.frame[FR_S]
         self.frame_state[k] = model.kernel.frame
@@ -366,11 +373,17 @@ class Recorder:
                         for f, field in enumerate(CONTACT_FIELDS):
                             cols[f"ws{i + 1}_{side}_p{k + 1}_{field}"] = fields[:, i, s, k, f]
         rail = self.rail_q[:n].reshape(n, -1, 4)
+        rail_v = self.rail_qt[:n].reshape(n, -1, 4)
+        rail_a = self.rail_qtt[:n].reshape(n, -1, 4)
         for j, name in enumerate(self.rail_names):
             i = self.ws_names.index(name) + 1
             for c, key in enumerate(("left_rail_lateral", "left_rail_vertical",
                                      "right_rail_lateral", "right_rail_vertical")):  # fmt: skip
                 cols[f"ws{i}_{key}_m"] = rail[:, j, c]
+            for c, key in ((1, "left_rail_vertical"), (3, "right_rail_vertical")):
+                # the rail mass's vertical velocity and acceleration (its force balance)
+                cols[f"ws{i}_{key}_velocity_m_per_s"] = rail_v[:, j, c]
+                cols[f"ws{i}_{key}_acceleration_m_per_s2"] = rail_a[:, j, c]
         cols.update(
             track_columns(self.model.alignment, cols["ws1_s_m"], speed,
                           self.vehicle.gravity_m_per_s2)
