@@ -17,9 +17,8 @@ Each section is one case per direction: a straight (no ``radius``) or a circular
 other way); ``both`` (the default) runs both, each with half the section's share. A straight's
 ``reverse`` is its **mirrored case** (:attr:`RouteCase.mirrored`): the left and the right wheels
 exchanged, i.e. each wheelset's two wheel profiles swapped and the initial lateral offset
-negated (the route's tracks have no irregularities, so there are none to mirror); the wear of
-the simulated left wheel is the real right wheel's and the other way round
-(:mod:`.route_study`). The shares are normalised to sum to 1.
+negated (its irregularities, if any: below); the wear of the simulated left wheel is the real
+right wheel's and the other way round (:mod:`.route_study`). The shares are normalised to sum to 1.
 
 Irregularities (docs/wear.md, "Wear spreading"): an optional ``irregularities:`` mapping at the
 route's top level, or in a section to replace the route's for that section, with the keys and
