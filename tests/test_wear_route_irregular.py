@@ -215,3 +215,27 @@ def test_irregular_mirrored_case_is_the_mirror_of_the_real_reverse_run(tmp_path)
             assert abs(row[f"{key}_conservation_error"]) < 0.01
     track = yaml.safe_load((both / "out" / "step_000" / "route" / "track.yaml").read_text())
     assert track["irregularities"]["spectrum"] == "german_low"
+
+
+def test_measured_record_in_a_route_is_found_relative_to_the_route_file(tmp_path):
+    """``type: measured`` names its CSV relative to the route file (as a track file does); the
+    cases' tracks, written elsewhere, name it by its absolute path and load; a missing file is
+    an InputError at the route's line and key."""
+    from railexu.track.track import load_track
+
+    x = np.arange(0.0, 120.0, 0.25)
+    lines = ["distance_m,lateral_m,vertical_m,cross_level_m,gauge_m"]
+    lines += [f"{v:g},{1e-3 * np.sin(v / 5):.9f},0,{5e-4 * np.cos(v / 7):.9f},0" for v in x]
+    (tmp_path / "rec.csv").write_text("\n".join(lines) + "\n")
+    text = STRAIGHT.replace(
+        "{type: spectrum, spectrum: german_low, seed: 1, wavelength_max: 20 m}",
+        "{type: measured, file: rec.csv}",
+    )
+    route = load_route(_route(tmp_path, text))
+    fwd, rev = route.cases
+    assert fwd.irregularities()["file"] == str(tmp_path / "rec.csv")
+    track = load_track(fwd.write_track(route, tmp_path / "elsewhere"))
+    assert track.irregularities(50.0).left_rail_offsets(30.0)[0] != 0.0
+    assert rev.irregularities() == fwd.irregularities()  # the mirrored case: as it is
+    with pytest.raises(InputError, match=r"route.yaml:3: irregularities.file: .*not found"):
+        load_route(_route(tmp_path, text.replace("rec.csv", "missing.csv")))
