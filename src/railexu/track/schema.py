@@ -26,6 +26,10 @@ MAX_INCLINATION_RAD = 0.1
 _FADE = Field("fade_length", "smooth (quintic) fade-in and fade-out at the ends of the record",
               unit="m", default=10.0, minimum=0.0, maximum=1000.0)  # fmt: skip
 
+_MIRROR = Field("mirror", "the mirror image of the record: lateral alignment and cross level "
+                "negated (the rails seen from the other side; a wear route's reverse cases)",
+                "boolean", default=False)  # fmt: skip
+
 IRREGULARITIES = {
     "none": Schema("none", (), "Ideal rails."),
     "spectrum": Schema(
@@ -46,6 +50,7 @@ IRREGULARITIES = {
             Field("length", "length of the record (default: the run's distance + 50 m)",
                   unit="m", default=OPTIONAL, positive=True, maximum=MAX_LENGTH_M),
             _FADE,
+            _MIRROR,
         ),
         "Random irregularities by the sum of cosines (docs/theory.md; ERRI B176 and FRA spectra).",
     ),
@@ -55,6 +60,7 @@ IRREGULARITIES = {
             Field("file", "CSV file (relative to the track file): distance_m, lateral_m, "
                   "vertical_m, cross_level_m, gauge_m (or _mm)", "text"),
             _FADE,
+            _MIRROR,
         ),
         "A measured record.",
     ),

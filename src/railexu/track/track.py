@@ -29,6 +29,7 @@ from pathlib import Path
 from railexu.contact.placement import parse_inclination
 from railexu.inputs import InputError, LineMap, Section, load_yaml_with_overrides, resolve_file
 from railexu.inputs.catalog import find_input
+from railexu.inputs.reader import dotted
 from railexu.profiles import ProfileError, rail_profile
 from railexu.track.alignment import Alignment, alignment_from_dict
 from railexu.track.elastic import ElasticTrack, track_model_from_dict
@@ -62,6 +63,9 @@ class IrregularitySpec:
     length_m: float | None = None
     fade_length_m: float = _SPECTRUM.default("fade_length")
     file: str = ""
+    #: the mirror image: lateral alignment and cross level negated
+    #: (:meth:`IrregularityProfile.mirrored`)
+    mirror: bool = False
 
 
 @dataclass(frozen=True)
@@ -100,6 +104,11 @@ class Track:
         spec = self.irregularity
         if spec.type == "none":
             return IrregularityProfile.zeros(max(length_m, 1.0) + 50.0)
+        record = self._record(spec, length_m)
+        return record.mirrored() if spec.mirror else record
+
+    @staticmethod
+    def _record(spec: IrregularitySpec, length_m: float) -> IrregularityProfile:
         if spec.type == "measured":
             return read_measured_irregularities(spec.file, fade_length_m=spec.fade_length_m)
         length = spec.length_m if spec.length_m is not None else length_m + 50.0
@@ -166,14 +175,7 @@ def track_from_dict(
         first = rails.zone_m()[0]
         top.fail(f"the turnout's first rail at {first:g} m is not beyond the run's start "
                  f"({start_m:g} m + 1 m): lengthen turnout.approach", key="turnout")  # fmt: skip
-    kind, params = TRACK.read(top, "irregularities")
-    irr = Section(top.data.get("irregularities", {}), source, top.lines, ("irregularities",))
-    if kind == "spectrum":
-        spec = _spectrum_spec(irr, params)
-    elif kind == "measured":
-        spec = _measured_spec(irr, params, base_dir, source)
-    else:
-        spec = IrregularitySpec(type=kind)
+    spec = irregularity_spec(top, base_dir)
     return Track(
         name=TRACK.read(top, "name"),
         rail_profile=rail,
@@ -218,6 +220,26 @@ def _inclination_value(written: object, angle_rad: float) -> str | float:
     return angle_rad
 
 
+def irregularity_spec(parent: Section, base_dir: Path | None = None) -> IrregularitySpec:
+    """The ``irregularities:`` mapping of ``parent`` (a track file's top level, or any mapping
+    that holds one with the same keys and meaning, e.g. a wear route's,
+    :mod:`railexu.study.wear.route`), read and checked.
+
+    Raises:
+        InputError: naming ``parent``'s file, the line and the key.
+    """
+    kind, params = TRACK.read(parent, "irregularities")
+    if kind not in ("spectrum", "measured"):  # written as a mapping or as the type alone
+        return IrregularitySpec(type=kind)
+    irr = Section(parent.data.get("irregularities", {}), parent.source, parent.lines,
+                  (*parent.path, "irregularities"))  # fmt: skip
+    if kind == "spectrum":
+        return _spectrum_spec(irr, params)
+    if kind == "measured":
+        return _measured_spec(irr, params, base_dir, parent.source)
+    return IrregularitySpec(type=kind)
+
+
 def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:
     components = p["components"]
     if len(set(components)) != len(components):
@@ -232,6 +254,7 @@ def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:
         amplitude_scale=p["amplitude_scale"],
         length_m=p["length"],
         fade_length_m=p["fade_length"],
+        mirror=p["mirror"],
     )
     if spec.wavelength_min_m >= spec.wavelength_max_m:
         irr.fail("wavelength_min must be below wavelength_max", key="wavelength_min")
@@ -270,11 +293,12 @@ def _measured_spec(irr: Section, p: dict, base_dir: Path | None, source: str) ->
     if not file.is_file():
         what = "is a folder, not a file" if file.is_dir() else "not found"
         irr.fail(f"irregularity file {str(file)!r} {what}", key="file")
-    spec = IrregularitySpec(type="measured", file=str(file), fade_length_m=p["fade_length"])
+    spec = IrregularitySpec(type="measured", file=str(file), fade_length_m=p["fade_length"],
+                            mirror=p["mirror"])  # fmt: skip
     try:
         read_measured_irregularities(spec.file)
     except IrregularityError as exc:
-        raise InputError(str(exc), source=source, key="irregularities.file") from exc
+        raise InputError(str(exc), source=source, key=f"{dotted(irr.path)}.file") from exc
     except (OSError, UnicodeDecodeError) as exc:
         irr.fail(f"cannot read {str(file)!r}: {exc}", key="file")
     return spec

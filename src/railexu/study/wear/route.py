@@ -17,20 +17,39 @@ Each section is one case per direction: a straight (no ``radius``) or a circular
 other way); ``both`` (the default) runs both, each with half the section's share. A straight's
 ``reverse`` is its **mirrored case** (:attr:`RouteCase.mirrored`): the left and the right wheels
 exchanged, i.e. each wheelset's two wheel profiles swapped and the initial lateral offset
-negated (the route's tracks have no irregularities, so there are none to mirror); the wear of
-the simulated left wheel is the real right wheel's and the other way round
-(:mod:`.route_study`). The shares are normalised to sum to 1.
+negated (its irregularities, if any: below); the wear of the simulated left wheel is the real
+right wheel's and the other way round (:mod:`.route_study`). The shares are normalised to sum to 1.
+
+Irregularities (docs/wear.md, "Wear spreading"): an optional ``irregularities:`` mapping at the
+route's top level, or in a section to replace the route's for that section, with the keys and
+meaning of a track file's (docs/track-format.md), read by the same code
+(:func:`railexu.track.track.irregularity_spec`); every case's track carries its section's.
+Irregularities are a property of the rails: a section's two directions run the **same** record,
+seen from the other side in the reverse direction, i.e. mirrored (``mirror`` toggled: lateral
+alignment and cross level negated); the record is read in the same direction of travel (a
+stationary random process read backwards is a sample of the same process). A curve's
+``reverse`` (the vehicle as it is on the curve of the other hand) therefore runs the mirrored
+record; a straight's ``reverse`` is simulated as its mirrored case (the wheels exchanged), the
+mirror image of the vehicle as it is on the mirrored record, i.e. the record **unmirrored**
+(the mirror of the mirror). So a route run both ways stays left/right symmetric as on ideal
+track. A route-level ``seed`` is taken as ``seed + i`` for section ``i`` (each section its own
+sample); a section's own block keeps its seed as written. A synthetic record's ``length``, if
+given, must cover the case's run. A section whose evaluation window is shorter than the
+spectrum's ``wavelength_max`` warns (:class:`RouteWarning`): the window sees the longest waves
+at one phase only.
 """
 
 from __future__ import annotations
 
+import copy
 import math
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from railexu.errors import InputError
 from railexu.inputs.reader import load_yaml
-from railexu.inputs.section import suggest
+from railexu.inputs.section import Section, suggest
 from railexu.units import to_si
 
 #: straight lead-in before every section [m]
@@ -40,7 +59,13 @@ TRANSITION_M = 20.0
 #: settling after the transition before the evaluation window starts [m]
 SETTLE_M = 5.0
 DIRECTIONS = ("forward", "reverse", "both")
-_KEYS = ("name", "share", "speed", "length", "radius", "cant", "directions")
+_KEYS = ("name", "share", "speed", "length", "radius", "cant", "directions", "irregularities")
+_NONE = {"type": "none"}
+_MAX_SEED = 2**63 - 1
+
+
+class RouteWarning(UserWarning):
+    """A route that runs but samples its irregularities poorly (module doc)."""
 
 
 @dataclass(frozen=True)
@@ -54,6 +79,18 @@ class RouteCase:
     radius_m: float | None
     cant_m: float
     direction: str
+    #: the section's ``irregularities:`` block as the track file gets it (module doc; the
+    #: forward direction's: :meth:`irregularities` gives the case's own)
+    section_irregularities: dict = field(default_factory=lambda: dict(_NONE), compare=False)
+
+    def irregularities(self) -> dict:
+        """The case's track ``irregularities:`` block: the section's, mirrored (``mirror``
+        toggled) for a curve's ``reverse`` (module doc); a straight's ``reverse`` (its mirrored
+        case) runs the section's record as it is."""
+        block = copy.deepcopy(self.section_irregularities)
+        if block.get("type", "none") != "none" and self.direction == "reverse" and self.radius_m:
+            block["mirror"] = not block.get("mirror", False)
+        return block
 
     @property
     def mirrored(self) -> bool:
@@ -90,7 +127,7 @@ class RouteCase:
             "inclination": route.inclination,
             "gauge": f"{route.gauge_m} m",
             "geometry": {"type": "sections", "cant_base": "1.5 m", "sections": sections},
-            "irregularities": {"type": "none"},
+            "irregularities": self.irregularities(),
         }
 
     def write_track(self, route: Route, folder: Path) -> Path:
@@ -143,7 +180,7 @@ def load_route(path: str | Path) -> Route:
         raise InputError("expected 1", source=src, line=lines.get(("format_version",)),
                          key="format_version")  # fmt: skip
     unknown = set(data) - {"format_version", "name", "description", "rail_profile",
-                           "inclination", "gauge", "sections"}  # fmt: skip
+                           "inclination", "gauge", "sections", "irregularities"}  # fmt: skip
     if unknown:
         key = sorted(unknown)[0]
         raise InputError("unknown key", source=src, line=lines.get((key,)), key=key)
@@ -152,17 +189,23 @@ def load_route(path: str | Path) -> Route:
         raise InputError("expected a list of sections", source=src,
                          line=lines.get(("sections",)), key="sections")  # fmt: skip
     gauge = _number(data.get("gauge", 1.435), "m", src, lines.get(("gauge",)), "gauge", 1.0, 1.7)
+    top = Section(data, src, lines)
+    route_block = _irregularities(top, path.parent, None) if "irregularities" in data else None
     cases: list[RouteCase] = []
     for i, sec in enumerate(sections):
-        cases.extend(_section_cases(sec, i, src, lines))
+        sec_cases = _section_cases(sec, i, src, lines)
+        if isinstance(sec, dict) and "irregularities" in sec:
+            here = Section(sec, src, lines, ("sections", i))
+            block = _irregularities(here, path.parent, sec_cases[0])
+        elif route_block is not None:
+            block = _irregularities(top, path.parent, sec_cases[0], seed_offset=i)
+        else:
+            block = dict(_NONE)
+        cases.extend(replace(c, section_irregularities=block) for c in sec_cases)
     total = sum(c.share for c in cases)
     if not total > 0.0:
         raise InputError("the shares sum to 0", source=src, key="sections")
-    cases = [
-        RouteCase(c.name, c.share / total, c.speed_m_per_s, c.length_m, c.radius_m, c.cant_m,
-                  c.direction)
-        for c in cases
-    ]  # fmt: skip
+    cases = [replace(c, share=c.share / total) for c in cases]
     names = [f"{c.name}_{c.direction}" for c in cases]
     if len(set(names)) != len(names):
         raise InputError("section names must differ", source=src, key="sections")
@@ -221,3 +264,42 @@ def _section_cases(sec, i: int, src: str, lines) -> list[RouteCase]:
                          key=f"sections[{i}].directions")  # fmt: skip
     dirs = ("forward", "reverse") if directions == "both" else (directions,)
     return [RouteCase(name, share / len(dirs), speed, length, radius, cant, d) for d in dirs]
+
+
+def _irregularities(
+    parent: Section, base_dir: Path, case: RouteCase | None, seed_offset: int = 0
+) -> dict:
+    """``parent``'s ``irregularities:`` block read by the track file's code and written back as
+    the case's track gets it (module doc): a measured file's path made absolute, the seed plus
+    ``seed_offset``; the checks against ``case``'s run (None: the route level, read for its
+    errors only)."""
+    from railexu.track.track import irregularity_spec
+
+    spec = irregularity_spec(parent, base_dir)
+    raw = parent.data["irregularities"]
+    block = {"type": raw} if isinstance(raw, str) else copy.deepcopy(raw or {})
+    where = Section(block, parent.source, parent.lines, (*parent.path, "irregularities"))
+    if spec.type == "measured":
+        block["file"] = spec.file
+    if spec.type != "spectrum" or case is None:
+        return block
+    block["seed"] = (spec.seed + seed_offset) % (_MAX_SEED + 1)
+    if spec.length_m is not None and spec.length_m < case.distance_m:
+        where.fail(
+            f"a record of {spec.length_m:g} m does not cover the run of section "
+            f"{case.name!r} ({case.distance_m:g} m): leave length out (the run's distance "
+            "+ 50 m)",
+            key="length",
+        )  # fmt: skip
+    window = case.distance_m - case.evaluate_from_m
+    if window < spec.wavelength_max_m:
+        line = where.line()
+        warnings.warn(
+            f"{parent.source}{f':{line}' if line else ''}: section {case.name!r}: its evaluation "
+            f"window ({window:g} m) is shorter than the irregularities' wavelength_max "
+            f"({spec.wavelength_max_m:g} m): the window sees the longest waves at one phase "
+            "only (docs/wear.md, \"Wear spreading\")",
+            RouteWarning,
+            stacklevel=3,
+        )  # fmt: skip
+    return block

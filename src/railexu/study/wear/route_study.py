@@ -6,7 +6,8 @@ Dask distributed cluster, resumable (a case in the study's ``results.csv`` with 
 not run again; a worn profile file whose content changed changes every hash), its folder
 complete or saying it is not (the study's own contract). The study has one base track (the
 route's first case) and varies, zipped, the track's ``geometry.sections``, ``run.speed``,
-``run.distance`` and ``run.evaluate_from``; the worn profiles are base overrides of the vehicle
+``run.distance`` and ``run.evaluate_from`` (and ``irregularities`` when a case has any:
+:mod:`.route`, their two directions); the worn profiles are base overrides of the vehicle
 (``wheelsets.<name>.wheel_profile={left: file, right: file}``), the run records the contact
 points (``contact_outputs: true``).
 
@@ -139,6 +140,8 @@ def route_study_data(
         "run.distance": [f"{c.distance_m:.12g} m" for c in cases],
         "run.evaluate_from": [f"{c.evaluate_from_m:.12g} m" for c in cases],
     }
+    if any(t["irregularities"].get("type") != "none" for t in tracks):
+        params["track.irregularities"] = [t["irregularities"] for t in tracks]
     if mirrored:
         params.update(mirrored)
         varied = tuple(f"{k}=" for k in mirrored if k.startswith("vehicle."))

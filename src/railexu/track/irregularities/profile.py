@@ -187,6 +187,22 @@ class IrregularityProfile:
         ry, rz = self.right_rail_offsets(x, derivative)
         return np.stack([ly, lz, ry, rz], axis=-1)
 
+    def mirrored(self) -> IrregularityProfile:
+        """The mirror image of the track about its centre line (``y -> -y``): the left rail
+        takes the right rail's offsets mirrored, so the lateral alignment and the cross level
+        change sign and the vertical profile and the gauge stay (from the rail offsets of the
+        module doc: ``dy_left' = -dy_right = -y_a + g/2``, ``dz_left' = dz_right = z_v - c/2``).
+        """
+        return IrregularityProfile(
+            distance_m=self.distance_m,
+            lateral_m=-self.lateral_m,
+            vertical_m=self.vertical_m,
+            cross_level_m=-self.cross_level_m,
+            gauge_m=self.gauge_m,
+            fade_length_m=self.fade_length_m,
+            description=f"{self.description} (mirrored)".strip(),
+        )
+
     def sampled(self, step_m: float) -> SampledIrregularities:
         """Faded rail offsets and their slopes on a uniform grid for a compiled kernel.
 
