@@ -15,13 +15,15 @@ and rises 1:350 to full height at 3.5 m, while the stock rail moves to the field
   the flange root passes from the stock rail to the blade's gauge corner (y = -34 mm) at 2.7 m.
 
 Checked against the rigid wheel's touch heights on each rail (the slices' geometry alone,
-:func:`rigid_touch_heights`): the rails' vertical forces sum to the load; the blade's share rises
-monotonically and continuously; the wheel's height changes per step as the rigid wheel's within
-the elastic approach; the 50 % point lies within ``0.63 delta / rate`` of where the rigid wheel
-touches both rails at once (``delta`` the approach at the load, ``rate`` how fast the touch
-heights part along the track: Hertz's approach at half the load is ``2^(-2/3) = 0.63`` of it,
-and the two rails' half-load approaches differ by less than the larger). Then the compiled
-kernel on the dynamics' effective sections, the same sweep.
+:func:`~railexu.contact.variable_rail.rail_touch_heights`): the rails' vertical forces sum to
+the load; the blade's share rises monotonically and continuously; the wheel's height changes
+per step as the rigid wheel's within the elastic approach; the 50 % point lies within
+``0.63 delta / rate`` of where the rigid wheel touches both rails at once (``delta`` the
+approach at the load, ``rate`` how fast the touch heights part along the track: Hertz's
+approach at half the load is ``2^(-2/3) = 0.63`` of it, and the two rails' half-load
+approaches differ by less than the larger), and within 10 % + 1 mm of where the two rails'
+half-load approaches make up the touch heights' gap. Then the compiled kernel on the
+dynamics' effective sections, the same sweep.
 """
 
 from __future__ import annotations
@@ -32,7 +34,12 @@ from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
 from railexu.contact.evaluation import WheelsetContactModel
-from railexu.contact.variable_rail import ContactSettings, WheelSection, _overlap, press_wheel
+from railexu.contact.variable_rail import (
+    ContactSettings,
+    WheelSection,
+    press_wheel,
+    rail_touch_heights,
+)
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
 from railexu.profiles.variable.rails import rail_index
@@ -70,15 +77,7 @@ class Panel:
         geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
         self.geometry = geometry
         self.pair = geometry.pairs[self.side]
-        table = self.pair.wheel_table
-        u = table.y0_m + table.step_m * np.arange(table.z.size)
-        # the wheel's lateral coordinate from its tape circle, its radius increase (z down =
-        # larger radius); its tape circle e from the track centre, the rail's origin at y0
-        self.wheel = WheelSection(
-            np.column_stack([u, table.z]),
-            self.pair.nominal_radius_m,
-            self.pair.tape_circle_lateral_m - self.pair.rail_origin_track_m[0],
-        )
+        self.wheel = WheelSection.from_pair(self.pair)
 
 
 @pytest.fixture(scope="module", params=list(CASES))
@@ -88,23 +87,8 @@ def case(request):
 
 
 def rigid_touch_heights(panel: Panel, s_m: float, y_m: float) -> np.ndarray:
-    """The rigid wheel's height ``z_ws`` [m, down] at which it first touches the blade (0) and
-    the stock rail (1) at ``s`` from the toe: the largest overlap over the wheel's width and
-    +-60 mm along the track, each point given to the rail on top there
-    (:func:`rail_index`); NaN where a rail is not within the wheel's reach."""
-    w = panel.wheel
-    yw = w.points_m[:, 0] + y_m + w.y_offset_m
-    yy = np.arange(yw[0] + 2.5e-4, yw[-1], 2.5e-4)
-    xx = np.arange(-0.06, 0.0605, 2e-3)
-    h = _overlap(panel.profile, w, s_m, y_m, 0.0, xx, yy)
-    best = np.full(2, -np.inf)
-    for i, x in enumerate(xx):
-        k = rail_index(panel.profile, s_m + x, yy)
-        for r in (0, 1):
-            row = h[i][(k == r) & np.isfinite(h[i])]
-            if row.size:
-                best[r] = max(best[r], float(row.max()))
-    return np.where(np.isfinite(best), -best, np.nan)
+    """The rigid wheel's touch heights on the blade (0) and the stock rail (1) [m, down]."""
+    return rail_touch_heights(panel.profile, panel.wheel, s_m, y_m)
 
 
 @pytest.fixture(scope="module")
