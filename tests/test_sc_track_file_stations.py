@@ -17,8 +17,11 @@ import numpy as np
 import pytest
 
 from railexu.errors import InputError
+from railexu.model.assembly import wheelset_geometry
+from railexu.model.sc_tables import sc_kernel_fields
 from railexu.track.track import load_track
 from railexu.track.variable_rails import VariableRails
+from railexu.vehicle.vehicle import load_vehicle
 
 TRACKS = Path(__file__).resolve().parents[1] / "tracks"
 START_M = 30.0
@@ -163,3 +166,28 @@ def test_bad_part_refused_with_file_line_and_key(tmp_path, steps, key, words, di
     # the parts are written from line 14 on (the list's own key: line 14)
     assert err.value.line is not None and err.value.line >= 14, err.value
     assert str(path) in str(err.value) and f"variable_rails.{key}" in str(err.value)
+
+
+def test_mirrored_stations_carry_the_same_tables(tmp_path):
+    """The dynamics' station tables (:func:`sc_kernel_fields`) of the facing and the trailing
+    zone with the same parts: the stations as :meth:`VariableRails.stations_m` gives them (not
+    uniform: ``sc_step = 0``), and station ``i`` of the facing zone carries the table of
+    station ``n - 1 - i`` of the trailing one (the same slices' ``s``; the effective section's
+    envelope over +-60 mm is symmetric in ``x``): heights within 1e-12 m (measured 1.1e-14 m:
+    the surface read at ``start + s + x`` and ``start - s - x``, rounded apart; neighbouring
+    stations' tables differ by up to 44 mm here, where the nose begins)."""
+    tables = []
+    for direction in ("facing", "trailing"):
+        track = load_track(_write(tmp_path, direction=direction))
+        geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
+        fields = sc_kernel_fields(track.variable_rails, geometry, 5.0e-4)
+        assert fields["sc_step"] == 0.0
+        np.testing.assert_array_equal(fields["sc_stations"], track.variable_rails.stations_m())
+        side = int(np.flatnonzero(fields["sc_side"] >= 0)[0])
+        rows = fields["sc_index"][:, side]
+        tables.append(fields["sc_base"][rows][:, :, 0])  # the heights' column
+    facing, trailing = tables
+    assert facing.shape == trailing.shape
+    finite = np.isfinite(facing)
+    assert np.array_equal(finite, np.isfinite(trailing[::-1]))
+    assert np.max(np.abs(facing[finite] - trailing[::-1][finite])) < 1e-12
