@@ -61,6 +61,17 @@ class WheelSection:
     nominal_radius_m: float
     y_offset_m: float = 0.0
 
+    @classmethod
+    def from_pair(cls, pair) -> WheelSection:
+        """The wheel of a placed :class:`~railexu.contact.placement.WheelRailPair` as the
+        dynamics places it over its rail (no cant): the wheel table's lateral coordinate from
+        the tape circle and radius increase, the tape circle ``e`` from the track centre, the
+        rail's own origin at ``y0`` in track axes: ``y_offset = e - y0`` [m]."""
+        table = pair.wheel_table
+        u = table.y0_m + table.step_m * np.arange(table.z.size)
+        offset = pair.tape_circle_lateral_m - pair.rail_origin_track_m[0]
+        return cls(np.column_stack([u, table.z]), pair.nominal_radius_m, offset)
+
     def height(self, y_w: np.ndarray) -> np.ndarray:
         """``z_w`` [m] at ``y_w``; NaN outside the profile."""
         p = self.points_m
@@ -253,6 +264,36 @@ def press_wheel(
     if abs(total - load_n) > max(tol_n, 1e-3 * load_n):
         raise ComputationError(f"pressing the wheel: {total:.1f} N against {load_n:.1f} N")
     return z, patches
+
+
+def rail_touch_heights(
+    rail: VariableProfile,
+    wheel: WheelSection,
+    s_m: float,
+    y_ws_m: float,
+    x_max_m: float = 0.06,
+    dx_m: float = 2.0e-3,
+    dy_m: float = 2.5e-4,
+) -> np.ndarray:
+    """The rigid wheel's height ``z_ws`` [m, down] at which it first touches rail 0 and rail 1
+    of the side (e.g. the blade and the stock rail) at ``s``: the largest overlap over the
+    wheel's width and ``|x| <= x_max`` along the track on a ``dx`` x ``dy`` grid, each point
+    given to the rail on top there at ``s + x`` (:func:`~railexu.profiles.variable.rails.
+    rail_index`). NaN for a rail not within the wheel's reach. The geometry alone: the rail
+    whose touch height is the smaller carries a rigid wheel; where they are equal it touches
+    both at once."""
+    yw = wheel.points_m[:, 0] + y_ws_m + wheel.y_offset_m
+    yy = np.arange(yw[0] + dy_m, yw[-1], dy_m)
+    xx = np.arange(-x_max_m, x_max_m + 0.5 * dx_m, dx_m)
+    h = _overlap(rail, wheel, s_m, y_ws_m, 0.0, xx, yy)
+    best = np.full(2, -np.inf)
+    for i, x in enumerate(xx):
+        k = rail_index(rail, s_m + x, yy)
+        for r in (0, 1):
+            row = h[i][(k == r) & np.isfinite(h[i])]
+            if row.size:
+                best[r] = max(best[r], float(row.max()))
+    return np.where(np.isfinite(best), -best, np.nan)
 
 
 def _touch_height(rail, wheel, s_m, y_ws_m, settings) -> float:

@@ -15,6 +15,7 @@ variable_rails=VariableRails(...))``) or by a track file's ``variable_rails:`` s
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +44,11 @@ class VariableRails:
         station_steps_m: parts of the zone with their own station step, ``(from, to, step)``
             in track distances [m] (e.g. a turnout's crossing panel at 10 mm, the rest at
             ``station_step_m``); parts must not overlap. Empty: one uniform grid.
+        grids_from_end: with parts of their own step, each grid (a part's, the zone's
+            default) runs from its last track distance backwards instead of from its first: the
+            stations of a zone met in reverse (a track file's ``direction: trailing``) are then
+            the mirror image of the facing zone's, at the same slices' ``s``. Refused without
+            parts (a uniform zone's stations run from its first slice: the kernel's division).
     """
 
     left: VariableProfile | None = None
@@ -52,6 +58,7 @@ class VariableRails:
     rail_origin_m: tuple[float, float] | None = None
     x_max_m: float = 0.06
     station_steps_m: tuple[tuple[float, float, float], ...] = ()
+    grids_from_end: bool = False
 
     def __post_init__(self) -> None:
         if self.left is None and self.right is None:
@@ -79,6 +86,11 @@ class VariableRails:
                 raise InputError(f"variable rails: station step parts {a0} .. {b0} m and {a1} "
                                  f".. {b1} m overlap")  # fmt: skip
         object.__setattr__(self, "station_steps_m", tuple(parts))
+        if self.grids_from_end and not parts:
+            raise InputError(
+                "variable rails: grids_from_end needs parts of their own step "
+                "(station_steps_m); a uniform zone's grid runs from its first slice"
+            )
 
     def sides(self) -> tuple[VariableProfile | None, VariableProfile | None]:
         """``(left, right)``."""
@@ -101,32 +113,45 @@ class VariableRails:
         its last slice (at least two). With parts of their own step: the union of each part's
         uniform grid (from the part's start, its end included) and of the zone's default grid
         outside the parts, both zone ends included; stations closer than
-        :data:`SAME_STATION_M` are one."""
+        :data:`SAME_STATION_M` are one. ``grids_from_end``: each grid from its last track
+        distance backwards (the mirror image of the same parts met facing)."""
         lo, hi = self.zone_m()
         step = self.station_step_m
         if self.uniform:
             n = int(np.floor((hi - lo) / step)) + 1
             return lo + step * np.arange(max(n, 2))
-        grid = _grid(lo, hi, step)
-        outside = np.ones(grid.size, dtype=bool)
-        ends = [np.array([lo, hi])]
-        parts = []
-        for a, b, h in self.station_steps_m:
-            a, b = max(a, lo), min(b, hi)
-            if b <= a:
-                continue
-            outside &= (grid <= a) | (grid >= b)
-            parts.append(_grid(a, b, h))
-            ends.append(np.array([a, b]))
-        x = np.sort(np.concatenate([grid[outside], *parts, *ends]))
-        keep = [0]
-        ends_set = np.concatenate(ends)
-        for k in range(1, x.size):
-            if x[k] - x[keep[-1]] > SAME_STATION_M:
-                keep.append(k)
-            elif np.any(ends_set == x[k]):  # a part's end or the zone's: it wins
-                keep[-1] = k
-        return x[keep]
+        if self.grids_from_end:  # the same union in the mirrored distance -x
+            parts = [(-b, -a, h) for a, b, h in self.station_steps_m]
+            return -_union_of_grids(-hi, -lo, step, parts)[::-1]
+        return _union_of_grids(lo, hi, step, self.station_steps_m)
+
+
+def _union_of_grids(
+    lo: float, hi: float, step: float, parts: Iterable[tuple[float, float, float]]
+) -> np.ndarray:
+    """The zone's default grid (``step`` from ``lo``) outside the parts, each part's own grid,
+    both zone ends and the parts' ends [m], increasing; stations closer than
+    :data:`SAME_STATION_M` are one (an end kept)."""
+    grid = _grid(lo, hi, step)
+    outside = np.ones(grid.size, dtype=bool)
+    ends = [np.array([lo, hi])]
+    grids = []
+    for a, b, h in parts:
+        a, b = max(a, lo), min(b, hi)
+        if b <= a:
+            continue
+        outside &= (grid <= a) | (grid >= b)
+        grids.append(_grid(a, b, h))
+        ends.append(np.array([a, b]))
+    x = np.sort(np.concatenate([grid[outside], *grids, *ends]))
+    keep = [0]
+    ends_set = np.concatenate(ends)
+    for k in range(1, x.size):
+        if x[k] - x[keep[-1]] > SAME_STATION_M:
+            keep.append(k)
+        elif np.any(ends_set == x[k]):  # a part's end or the zone's: it wins
+            keep[-1] = k
+    return x[keep]
 
 
 def _grid(a: float, b: float, step: float) -> np.ndarray:

@@ -3,7 +3,9 @@
 Reads the keys declared in :mod:`railexu.track.variable_rails_schema` into a
 :class:`~railexu.track.variable_rails.VariableRails`: per side a CONTACT ``.slcs`` file or
 railexu's YAML slices (:mod:`railexu.profiles.variable`), resolved relative to the track file;
-``direction: trailing`` runs the slices in reverse (``s -> -s``). Every refusal is an
+``direction: trailing`` runs the slices in reverse (``s -> -s``); ``station_steps:`` gives
+parts of the zone their own station step (in the slices' own ``s``, mapped to track distances;
+a trailing zone's grids run backwards so its stations mirror the facing zone's). Every refusal is an
 :class:`~railexu.errors.InputError` naming the track file, the line and the key (and, for a bad
 slices file, that file's own message: its line and slice).
 """
@@ -17,10 +19,17 @@ from railexu.inputs import Section, resolve_file
 from railexu.profiles.core import ProfileError
 from railexu.profiles.variable import ProfileSlices, VariableProfile, read_slcs, read_yaml_slices
 from railexu.track.variable_rails import VariableRails
-from railexu.track.variable_rails_schema import MAX_ZONE_LENGTH_M, VARIABLE_RAILS
+from railexu.track.variable_rails_schema import (
+    MAX_STATION_STEP_M,
+    MAX_ZONE_LENGTH_M,
+    MIN_STATION_STEP_M,
+    STATION_STEP_KEYS,
+    VARIABLE_RAILS,
+)
 
 _SLICES = VARIABLE_RAILS["slices"]
 _KEYS = ("type", *_SLICES.keys())
+_READ_APART = ("rail_origin", "station_steps")
 
 
 def variable_rails_from_dict(
@@ -49,7 +58,7 @@ def variable_rails_from_dict(
         Section(data, source, lines, ("variable_rails",), ("type",))
         return None
     sec = Section(data, source, lines, ("variable_rails",), _KEYS)
-    p = _SLICES.read_all(sec, [k for k in _SLICES.by_key if k != "rail_origin"])
+    p = _SLICES.read_all(sec, [k for k in _SLICES.by_key if k not in _READ_APART])
     origin = _SLICES.read(sec, "rail_origin") if sec.has("rail_origin") else None
     if p["left"] is None and p["right"] is None:
         sec.fail("expected a slices file for the left or the right rail (or both)")
@@ -64,7 +73,56 @@ def variable_rails_from_dict(
         x_max_m=p["effective_length"],
     )  # fmt: skip
     _check_zone(sec, rails, track_start_m, track_end_m)
+    if sec.has("station_steps"):
+        trailing = p["direction"] == "trailing"
+        parts = station_step_parts(sec, rails, trailing)
+        rails = replace(rails, station_steps_m=parts, grids_from_end=trailing and bool(parts))
     return rails
+
+
+def station_step_parts(
+    sec: Section, rails: VariableRails, trailing: bool
+) -> tuple[tuple[float, float, float], ...]:
+    """The zone's ``station_steps:`` as ``(from, to, step)`` in track distances [m].
+
+    Each part is written ``{from, to, step}``, ``from < to`` in the slices' own ``s`` (the
+    slices file's, trailing too), the parts in increasing ``s`` and not overlapping (touching
+    allowed), within the zone's slices (both sides together). A facing part maps to
+    ``(start + from, start + to)``; a trailing one (``s -> -s``) to ``(start - to, start -
+    from)``. Refusals name the part (``variable_rails.station_steps.<k>.<key>``) and its line.
+    """
+    raw = sec.data["station_steps"]
+    if raw is None:
+        return ()
+    if not isinstance(raw, list):
+        sec.fail("expected a list of parts {from: ..., to: ..., step: ...}, got "
+                 f"{type(raw).__name__} {raw!r}", key="station_steps")  # fmt: skip
+    start = rails.start_m
+    lo, hi = rails.zone_m()
+    s_lo, s_hi = (start - hi, start - lo) if trailing else (lo - start, hi - start)
+    parts, previous = [], None
+    for k, item in enumerate(raw):
+        part = Section(item, sec.source, sec.lines, (*sec.path, "station_steps", k),
+                       STATION_STEP_KEYS)  # fmt: skip
+        a = part.quantity("from", "m")
+        b = part.quantity("to", "m")
+        step = part.quantity("step", "m", minimum=MIN_STATION_STEP_M, maximum=MAX_STATION_STEP_M)
+        if not a < b:
+            part.fail(f"from {a:g} m is not before to {b:g} m: expected from < to (in the "
+                      "slices' own s)", key="to")  # fmt: skip
+        tol = 1e-9  # the slices' positions as read: metres rounded in a text file
+        if a < s_lo - tol or b > s_hi + tol:
+            key = "from" if a < s_lo - tol else "to"
+            part.fail(f"the part {a:g} .. {b:g} m lies outside the zone's slices ({s_lo:g} .. "
+                      f"{s_hi:g} m in the slices' s)", key=key)  # fmt: skip
+        if previous is not None and a < previous[1]:
+            what = "overlaps" if a > previous[0] else "comes before"
+            part.fail(f"the part {a:g} .. {b:g} m {what} the part before it ({previous[0]:g} .. "
+                      f"{previous[1]:g} m): expected parts in increasing s, not overlapping",
+                      key="from")  # fmt: skip
+        previous = (a, b)
+        parts.append((start - b, start - a, step) if trailing else (start + a, start + b, step))
+    return tuple(parts)
 
 
 def _profile(
@@ -121,4 +179,4 @@ def _check_zone(sec: Section, rails: VariableRails, start_m: float, end_m: float
                  key="start")  # fmt: skip
 
 
-__all__ = ["reversed_slices", "variable_rails_from_dict"]
+__all__ = ["reversed_slices", "station_step_parts", "variable_rails_from_dict"]
