@@ -26,7 +26,7 @@ from railexu.model.assembly import wheelset_geometry
 from railexu.track.track import load_track
 from railexu.vehicle.vehicle import load_vehicle
 
-COL_HEIGHT = 0  # the kernel table's height column (z down)
+COL_HEIGHT = 0  # the kernel table's height column (track axes, z up)
 TOP_M = 0.005  # "within 5 mm of the top" [m]
 FACE_M = (0.010, 0.035)  # the gauge faces' band below the top [m]
 
@@ -44,7 +44,12 @@ def blend_errors(rails, pair, side: int, s_m: np.ndarray, step_m: float) -> np.n
         z0, z1, z2 = (tabs[j][:, COL_HEIGHT] for j in range(3))
         y = info[0] + info[1] * np.arange(z1.size)
         ok = np.isfinite(z0) & np.isfinite(z1) & np.isfinite(z2) & (np.abs(z1) < 1.0)
-        depth = z1 - np.min(z1[ok])  # z down: depth below the section's top
+        # the tables are z up (the gap is the wheel's height minus the rail's): the depth below
+        # the section's top is measured from its highest point (a first version took z as down
+        # and measured its bands from the lowest point: the flangeway's bottom and the table's
+        # ends; the figures it gave, 191 um on the nose and 676 um on the wing rail's flank, are
+        # those bands')
+        depth = np.max(z1[ok]) - z1
         normal = _distance_to_curve(y[ok], 0.5 * (z0 + z2)[ok], y[ok], z1[ok])
         top = depth[ok] <= TOP_M
         face = (depth[ok] >= FACE_M[0]) & (depth[ok] <= FACE_M[1])
