@@ -233,3 +233,11 @@ def test_non_uniform_store_keeps_the_plain_rail_once():
         if fields["sc_side"][k] >= 0:
             assert np.unique(fields["sc_index"][plain, k]).size == 1
     assert fields["sc_tab"].shape[0] < 0.5 * 2 * x.size
+
+
+def test_turnout_with_too_many_stations_refused(tmp_path):
+    """1 mm stations (the smallest the turnout takes) over its 27 m zone: about 27 000
+    stations, refused naming the turnout's step keys before any table is built."""
+    with pytest.raises(InputError) as err:
+        load_track(TURNOUT, ["turnout.station_step=1 mm"])
+    assert "at most 5000" in str(err.value) and "turnout" in str(err.value)

@@ -191,3 +191,15 @@ def test_mirrored_stations_carry_the_same_tables(tmp_path):
     finite = np.isfinite(facing)
     assert np.array_equal(finite, np.isfinite(trailing[::-1]))
     assert np.max(np.abs(facing[finite] - trailing[::-1][finite])) < 1e-12
+
+
+def test_too_many_stations_refused_before_any_table_is_built():
+    """0.1 mm stations (the smallest step) over the shipped crossing's 5.7 m zone: about
+    57 000 stations, refused naming the file and the key before the tables (about 0.7 MB per
+    station and side) are built; its 20 mm stations pass the bound (5000)."""
+    assert load_track("uk_crossing_facing").variable_rails.too_many_stations() is None
+    with pytest.raises(InputError) as err:
+        load_track("uk_crossing_facing", ["variable_rails.station_step=0.1 mm"])
+    message = str(err.value)
+    assert "variable_rails.station_step" in message and "at most 5000" in message
+    assert "uk_crossing_facing.yaml" in message

@@ -129,6 +129,9 @@ def turnout_from_dict(
         x_max_m=design["effective_length"],
         station_steps_m=panel_station_steps(spans, t, step),
     )  # fmt: skip
+    too_many = rails.too_many_stations()
+    if too_many:
+        sec.fail(f"{too_many} (station_step, switch_station_step, crossing_station_step)")
     geometry_section = {"type": "sections", "sections": [dict(p) for p in layout.sections]}
     return geometry_section, rails, layout
 

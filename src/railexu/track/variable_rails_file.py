@@ -77,6 +77,9 @@ def variable_rails_from_dict(
         trailing = p["direction"] == "trailing"
         parts = station_step_parts(sec, rails, trailing)
         rails = replace(rails, station_steps_m=parts, grids_from_end=trailing and bool(parts))
+    too_many = rails.too_many_stations()
+    if too_many:
+        sec.fail(too_many, key="station_steps" if sec.has("station_steps") else "station_step")
     return rails
 
 
