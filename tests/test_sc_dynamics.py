@@ -17,13 +17,10 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from uniform_zone import uniform_zone
 
-from railexu.profiles import rail_profile
-from railexu.profiles.variable import VariableProfile
-from railexu.profiles.variable.slices import ProfileSlices
 from railexu.results.run import RunSettings, run
 from railexu.track.track import ideal_straight_track
-from railexu.track.variable_rails import VariableRails
 from railexu.vehicle.vehicle import load_vehicle
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
@@ -32,14 +29,7 @@ VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 def test_uniform_zone_runs_as_plain_track():
     vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
     plain = ideal_straight_track()
-    rail = rail_profile(plain.rail_profile)
-    y = np.arange(rail.y_min, rail.y_max, 5e-5)
-    points = np.column_stack([y, -rail.height(y)])  # z down, the slices' convention
-    uniform = VariableProfile(
-        ProfileSlices("uniform 60E1", np.array([0.0, 1.0]), (points, points), None,
-                      (None, None), ("60E1", "60E1"))
-    )  # fmt: skip
-    zone = VariableRails(left=uniform, right=uniform, start_m=5.0, station_step_m=0.25)
+    zone = uniform_zone(plain)
     settings = RunSettings(speed_m_per_s=5.0, distance_m=8.0, initial_lateral_m=0.002)
     a = run(vehicle, plain, settings)
     b = run(vehicle, replace(plain, variable_rails=zone), settings)

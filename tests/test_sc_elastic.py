@@ -29,15 +29,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from uniform_zone import uniform_zone
 
 from railexu.errors import InputError
-from railexu.profiles import rail_profile
-from railexu.profiles.variable import VariableProfile
-from railexu.profiles.variable.slices import ProfileSlices
 from railexu.results.run import RunSettings, run
 from railexu.track.elastic import ElasticTrack
 from railexu.track.track import ideal_straight_track, load_track
-from railexu.track.variable_rails import VariableRails
 from railexu.vehicle.vehicle import load_vehicle
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
@@ -49,14 +46,7 @@ def test_uniform_zone_on_elastic_track_runs_as_plain_elastic_track():
     ``tests/test_sc_dynamics.py`` on rigid track)."""
     vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
     plain = replace(ideal_straight_track(), elastic=ElasticTrack())
-    rail = rail_profile(plain.rail_profile)
-    y = np.arange(rail.y_min, rail.y_max, 5e-5)
-    points = np.column_stack([y, -rail.height(y)])  # z down, the slices' convention
-    uniform = VariableProfile(
-        ProfileSlices("uniform 60E1", np.array([0.0, 1.0]), (points, points), None,
-                      (None, None), ("60E1", "60E1"))
-    )  # fmt: skip
-    zone = VariableRails(left=uniform, right=uniform, start_m=5.0, station_step_m=0.25)
+    zone = uniform_zone(plain)
     settings = RunSettings(speed_m_per_s=5.0, distance_m=8.0, initial_lateral_m=0.002)
     a = run(vehicle, plain, settings)
     b = run(vehicle, replace(plain, variable_rails=zone), settings)
