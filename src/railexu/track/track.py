@@ -235,9 +235,7 @@ def irregularity_spec(parent: Section, base_dir: Path | None = None) -> Irregula
                   (*parent.path, "irregularities"))  # fmt: skip
     if kind == "spectrum":
         return _spectrum_spec(irr, params)
-    if kind == "measured":
-        return _measured_spec(irr, params, base_dir, parent.source)
-    return IrregularitySpec(type=kind)
+    return _measured_spec(irr, params, base_dir, parent.source)
 
 
 def _spectrum_spec(irr: Section, p: dict) -> IrregularitySpec:
