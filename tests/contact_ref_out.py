@@ -15,7 +15,8 @@ def read_ref_out(path: Path) -> list[dict]:
     """The cases of a ``.ref_out`` file: ``s_m, y_m, z_m, fz_n, patches`` (each patch
     ``x_m, y_m, z_m, delta_rad, fn_n, fx_n, fs_n``: the normal force and the tangential forces
     along the track and laterally in the contact plane; ``y, z`` in the rail profile's
-    coordinates)."""
+    coordinates; and its kinematics ``veloc_m_per_s, cksi, ceta, cphi_per_m``: CONTACT's
+    rolling speed and creepages, spin in 1/m)."""
     lines = path.read_text(errors="replace").splitlines()
     cases: list[dict] = []
     for i, line in enumerate(lines):
@@ -33,4 +34,9 @@ def read_ref_out(path: Path) -> list[dict]:
         elif head[:2] == ["FN", "FX"]:
             fn, fx, fs = _floats(lines[i + 1])[:3]
             cases[-1]["patches"][-1].update({"fn_n": fn, "fx_n": fx, "fs_n": fs})
+        elif head[:1] == ["CHI"] and cases and cases[-1]["patches"]:
+            v = _floats(lines[i + 1])
+            cases[-1]["patches"][-1].update(
+                {"veloc_m_per_s": v[2] * 1e-3, "cksi": v[3], "ceta": v[4], "cphi_per_m": v[5] * 1e3}
+            )
     return cases

@@ -24,8 +24,17 @@ Method:
    ``dy / cos(delta)``; the pressure follows from the elastic half-space
    (:func:`railexu.contact.halfspace.solve_normal`), frictionless. The normal force acts along
    the plane's normal: vertical component ``N cos(delta)``, lateral ``N sin(delta)``.
+4. *Tangential problem per patch* (when a :class:`~railexu.contact.variable_creep.WheelMotion`
+   is given): the patch's creepages from the wheelset's speed and pitch rate at its pressure
+   centre and angle, and its creep forces ``Fx`` (along the track) and ``Fs`` (laterally in the
+   contact plane) on the pressure grid of step 3 (:mod:`railexu.contact.variable_creep`,
+   CONTACT's axes and signs). The vertical and lateral forces on the rail then include them:
+   ``N cos(delta) + Fs sin(delta)`` and ``Fs cos(delta) - N sin(delta)`` (CONTACT's FZ(TR),
+   FY(TR)); with the same material on both sides the normal problem does not depend on the
+   tangential one (Kalker 1990, quasi-identity), so the normal pressure is solved once.
 
-Only the normal problem is solved (no creep forces) and the wheelset is not rolled or yawed.
+Without a motion only the normal problem is solved (frictionless). The wheelset is not rolled
+or yawed.
 Coordinates: those of CONTACT's right wheel on its right rail (``y`` towards the field side, the
 rail profile's own ``y``; ``z`` down), in metres; ``s`` along the track.
 """
@@ -41,6 +50,13 @@ from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq
 
 from railexu.contact.halfspace import solve_normal
+from railexu.contact.variable_creep import (
+    PatchCreepage,
+    WheelMotion,
+    mean_slope_angle,
+    patch_creepages,
+    tangential_forces,
+)
 from railexu.errors import ComputationError
 from railexu.profiles.variable import VariableProfile
 from railexu.profiles.variable.rails import rail_index
@@ -88,7 +104,9 @@ class Patch:
         angle_rad: contact angle ``delta`` (rail slope, positive = surface rising to larger y
             ... as CONTACT's DELTCP, negative on the gauge face of a right rail).
         normal_force_n: normal force N [N].
-        vertical_force_n, lateral_force_n: its components on the rail [N] (z down positive).
+        vertical_force_n, lateral_force_n: the patch's force on the rail, vertically (z down
+            positive) and laterally [N]: ``N cos(delta) + Fs sin(delta)``,
+            ``Fs cos(delta) - N sin(delta)``.
         max_overlap_m: largest undeformed overlap along the normal [m].
         area_m2: contact area [m^2].
         rail_index: which rail of the side carries it, 0 the gauge side's (nose), 1 the field
@@ -96,6 +114,9 @@ class Patch:
             own station ``s + x`` (:func:`railexu.profiles.variable.rails.rail_index`: by the
             slices' boundary feature, else separate curves in lateral order or the two sides
             of a single curve's deepest point).
+        fx_n, fs_n: the creep forces on the rail [N] along the track and laterally in the
+            contact plane (CONTACT's FX, FS; 0 without a motion).
+        creepage: the patch's creepages (``None`` without a motion).
     """
 
     x_m: float
@@ -108,6 +129,9 @@ class Patch:
     max_overlap_m: float
     area_m2: float
     rail_index: int
+    fx_n: float = 0.0
+    fs_n: float = 0.0
+    creepage: PatchCreepage | None = None
 
 
 @dataclass(frozen=True)
@@ -148,6 +172,7 @@ def patches_at(
     y_ws_m: float,
     z_ws_m: float,
     settings: ContactSettings = ContactSettings(),
+    motion: WheelMotion | None = None,
 ) -> list[Patch]:
     """The contact patches of a wheel at track position ``s``, lateral ``y_ws``, height ``z_ws``.
 
@@ -156,6 +181,8 @@ def patches_at(
         wheel: the wheel profile and its placement.
         s_m: the wheel's track position [m]; y_ws_m: lateral displacement [m]; z_ws_m: vertical
             position [m] (down positive, CONTACT's Z_WS).
+        motion: the wheelset's speed, pitch rate and friction: creep forces per patch; ``None``
+            frictionless.
     """
     st = settings
     yw = wheel.points_m[:, 0] + y_ws_m + wheel.y_offset_m
@@ -170,14 +197,16 @@ def patches_at(
         x1 = xc[ii.max()] + st.coarse_dx_m + st.margin_m
         y0 = yc[jj.min()] - st.coarse_dy_m - st.margin_m
         y1 = yc[jj.max()] + st.coarse_dy_m + st.margin_m
-        patch = _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, (x0, x1, y0, y1), st)
+        box = (x0, x1, y0, y1)
+        patch = _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion)
         if patch is not None:
             out.append(patch)
     return _merge_duplicates(sorted(out, key=lambda p: p.y_m))
 
 
-def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st) -> Patch | None:
-    """The normal problem on the fine grid over one coarse patch's box."""
+def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion=None) -> Patch | None:
+    """The normal (and with ``motion`` the tangential) problem on the fine grid over one
+    coarse patch's box."""
     x0, x1, y0, y1 = box
     x = np.arange(x0, x1 + 0.5 * st.dx_m, st.dx_m)
     y = np.arange(y0, y1 + 0.5 * st.dy_m, st.dy_m)
@@ -203,17 +232,33 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st) -> Patch | None:
     xm = float(np.sum(w.sum(axis=1) * x))
     ym = float(np.sum(w.sum(axis=0) * y))
     zm = float(np.interp(ym, y, np.where(np.isfinite(zr), zr, 0.0)))
+    fx = fs = 0.0
+    creep = None
+    if motion is not None:
+        r_w = wheel.nominal_radius_m + float(
+            wheel.height(np.array([ym - y_ws_m - wheel.y_offset_m]))[0]
+        )
+        with np.errstate(invalid="ignore"):  # NaN beside the rail: left out of the mean
+            slope = np.gradient(rail.heights_on_grid(s_m + x, y), y, axis=1)
+        creep = patch_creepages(xm, r_w, mean_slope_angle(p, slope), motion)
+        fx, fs = tangential_forces(
+            p, x - xm, (y - ym) / cos_d, creep, motion, st.shear_modulus_pa, st.poisson
+        )
+    sin_d = math.sin(delta)
     return Patch(
         x_m=xm,
         y_m=ym,
         z_m=zm,
         angle_rad=delta,
         normal_force_n=force,
-        vertical_force_n=force * cos_d,
-        lateral_force_n=-force * math.sin(delta),
+        vertical_force_n=force * cos_d + fs * sin_d,
+        lateral_force_n=fs * cos_d - force * sin_d,
         max_overlap_m=float(h.max() * cos_d),
         area_m2=float(np.count_nonzero(p > 0.0) * area),
         rail_index=int(rail_index(rail, s_m + xm, np.array([ym]))[0]),
+        fx_n=float(fx),
+        fs_n=float(fs),
+        creepage=creep,
     )
 
 
@@ -236,8 +281,10 @@ def press_wheel(
     settings: ContactSettings = ContactSettings(),
     *,
     tol_n: float = 1.0,
+    motion: WheelMotion | None = None,
 ) -> tuple[float, list[Patch]]:
-    """The vertical position ``z_ws`` [m] at which the patches carry ``load_n`` vertically.
+    """The vertical position ``z_ws`` [m] at which the patches carry ``load_n`` vertically
+    (with ``motion`` their creep forces' vertical components included, as CONTACT's FZ).
 
     Raises:
         ComputationError: no position carries the load (the wheel is off its rails).
@@ -245,7 +292,10 @@ def press_wheel(
 
     def excess(z: float) -> float:
         return (
-            sum(p.vertical_force_n for p in patches_at(rail, wheel, s_m, y_ws_m, z, settings))
+            sum(
+                p.vertical_force_n
+                for p in patches_at(rail, wheel, s_m, y_ws_m, z, settings, motion)
+            )
             - load_n
         )
 
@@ -259,7 +309,7 @@ def press_wheel(
                 f"y = {y_ws_m * 1e3:.2f} mm"
             )
     z = brentq(excess, lo, hi, xtol=1.0e-9, rtol=1.0e-12, maxiter=60)
-    patches = patches_at(rail, wheel, s_m, y_ws_m, z, settings)
+    patches = patches_at(rail, wheel, s_m, y_ws_m, z, settings, motion)
     total = sum(p.vertical_force_n for p in patches)
     if abs(total - load_n) > max(tol_n, 1e-3 * load_n):
         raise ComputationError(f"pressing the wheel: {total:.1f} N against {load_n:.1f} N")

@@ -1,0 +1,241 @@
+"""Creepages and creep forces of one patch of the quasi-static S&C contact (issue 29).
+
+The tangential problem of :mod:`railexu.contact.variable_rail`, in CONTACT's wheel-rail axes and
+signs (E.A.H. Vollebregt, CONTACT, eve70a/CONTACT, Apache-2.0; the definitions below are
+checked against the creepages its ``examples_s+c`` reference outputs print, CKSI, CETA, CPHI,
+in ``tests/test_sc_contact_creep.py``): ``x`` along the track (forward), ``y`` towards the
+field side of the right rail, ``z`` down; the contact plane is tilted about ``x`` by the
+contact angle ``delta`` only (not pitched, even 46 mm ahead of the axle), with the in-plane
+lateral axis ``s = (0, cos delta, sin delta)`` and the rail's normal ``n = (0, -sin delta,
+cos delta)``.
+
+**Creepages** (rail at rest, the wheelset moving at ``V`` with the pitch rate ``omega``,
+CONTACT's VPITCH, negative when rolling forward, and the lateral speed ``V_y``). A wheel point
+at ``x`` ahead of the axle on the wheel's radius ``r_w`` there lies ``d = sqrt(r_w^2 - x^2)``
+below the axle and moves with ``v = (V + omega d, V_y, -omega x)``. With the rolling speed
+``V_r = (V + |omega| d) / 2`` (the mean of the two bodies' speeds along ``x`` relative to the
+contact; CONTACT's VELOC) the creepages are the rail's velocity minus the wheel's::
+
+    xi  = -(V + omega d) / V_r
+    eta = -(V_y cos delta - omega x sin delta) / V_r
+    phi = omega sin delta / V_r          [1/m]   (-(omega . n) / V_r)
+
+so that ``xi < 0`` when the wheel's surface turns faster than it moves (traction). On
+``cross_brute`` (x = 45.8 mm, delta = -0.0199) they give -5.19e-3, 1.98e-3, 4.34e-2 1/m
+against CONTACT's -5.197e-3, 1.980e-3, 4.328e-2 1/m.
+
+**Forces** (on the rail, along ``x`` and ``s``; equal and opposite on the wheel), with the
+signs of Kalker's linear theory ``Fx = -G a b c11 xi``, ``Fs = -G a b c22 eta - G (ab)^1.5 c23
+phi`` (Kalker 1990), by the law named in ``tangential``:
+
+- ``"fastsim_grid"`` (default): Kalker's simplified theory (FASTSIM, Kalker, VSD 11 (1982)
+  1-13) marched along every grid strip of the patch from its leading edge (largest ``x``) with
+  the traction bound ``mu p(x, y)`` of the patch's own half-space pressure, the flexibilities
+  ``L1 = 8 a / (3 c11 G)``, ``L2 = 8 a / (3 c22 G)``, ``L3 = pi a sqrt(a/b) / (4 c23 G)`` of the
+  equivalent ellipse (``b`` half the contact's width in the plane, ``a = A / (pi b)`` so that
+  ``pi a b`` is the contact's area ``A``) and Kalker's coefficients for its ``a/b``
+  (:func:`railexu.contact.kalker.kalker_coefficients`); spin turns about the pressure centre.
+  Full sliding gives exactly ``mu N`` (the bound integrates to it cell by cell).
+- any creep law of :data:`railexu.contact.parameters.CREEP_MODELS` (``"polach"``,
+  ``"fastsim"``, ...): that law on the equivalent ellipse with the normal force ``N``
+  (:func:`railexu.contact.creep.creep_forces`).
+
+railexu has no exact (half-space) tangential solver; CONTACT's reference solves the exact
+steady rolling problem. The comparison is in docs/switches-and-crossings.md, "Validation
+against CONTACT".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from railexu.contact.creep import creep_forces
+from railexu.contact.kalker import kalker_coefficients
+from railexu.contact.parameters import CREEP_MODELS, creep_model_code
+from railexu.errors import InputError, did_you_mean
+
+#: The tangential solutions by name: the patch's own grid, or a creep law on its ellipse.
+TANGENTIAL_MODELS: tuple[str, ...] = ("fastsim_grid", *CREEP_MODELS)
+
+
+@dataclass(frozen=True)
+class WheelMotion:
+    """The wheelset's motion and the friction of a quasi-static S&C contact (CONTACT's VS, VY,
+    VPITCH and FSTAT = FKIN).
+
+    Attributes:
+        speed_m_per_s: forward speed ``V`` [m/s] (> 0).
+        pitch_rate_rad_per_s: rotation about the axle [rad/s], CONTACT's sign (``z`` down:
+            negative when rolling forward; ``-V / r`` rolls freely on the radius ``r``).
+        lateral_speed_m_per_s: lateral speed ``V_y`` [m/s], towards the field side.
+        friction: friction coefficient ``mu`` [-] (>= 0).
+        tangential: the tangential solution, one of :data:`TANGENTIAL_MODELS`.
+    """
+
+    speed_m_per_s: float
+    pitch_rate_rad_per_s: float
+    lateral_speed_m_per_s: float = 0.0
+    friction: float = 0.3
+    tangential: str = "fastsim_grid"
+
+    def __post_init__(self) -> None:
+        for name in ("speed_m_per_s", "pitch_rate_rad_per_s", "lateral_speed_m_per_s", "friction"):
+            if not math.isfinite(getattr(self, name)):
+                raise InputError(f"WheelMotion.{name} must be finite, got {getattr(self, name)}")
+        if self.speed_m_per_s <= 0.0:
+            raise InputError(f"WheelMotion.speed_m_per_s must be > 0, got {self.speed_m_per_s}")
+        if self.friction < 0.0:
+            raise InputError(f"WheelMotion.friction must be >= 0, got {self.friction}")
+        key = str(self.tangential).strip().lower().replace("-", "_").replace(" ", "_")
+        if key not in TANGENTIAL_MODELS:
+            hint = did_you_mean(key, TANGENTIAL_MODELS, cutoff=0.5)
+            raise InputError(
+                f"WheelMotion.tangential: unknown tangential solution {self.tangential!r}."
+                f"{hint if hint.startswith(' Did') else ''} Valid: {', '.join(TANGENTIAL_MODELS)}."
+            )
+        object.__setattr__(self, "tangential", key)
+
+
+@dataclass(frozen=True)
+class PatchCreepage:
+    """The creepages of one patch (CONTACT's CKSI, CETA, CPHI and VELOC; module doc).
+
+    Attributes:
+        xi: longitudinal creepage [-]; eta: lateral creepage in the contact plane [-];
+        phi_per_m: spin creepage [1/m]; rolling_speed_m_per_s: ``V_r`` [m/s];
+        angle_rad: the angle ``delta`` they were computed with [rad].
+    """
+
+    xi: float
+    eta: float
+    phi_per_m: float
+    rolling_speed_m_per_s: float
+    angle_rad: float
+
+
+def patch_creepages(
+    x_m: float, wheel_radius_m: float, angle_rad: float, motion: WheelMotion
+) -> PatchCreepage:
+    """The creepages at a patch ``x_m`` [m] ahead of the axle, on the wheel's radius
+    ``wheel_radius_m`` [m] there, with the contact angle ``angle_rad`` (module doc)."""
+    om = motion.pitch_rate_rad_per_s
+    depth = math.sqrt(max(wheel_radius_m**2 - x_m**2, 0.0))
+    v = motion.speed_m_per_s
+    v_roll = 0.5 * (v + abs(om) * depth)
+    sin_d, cos_d = math.sin(angle_rad), math.cos(angle_rad)
+    xi = -(v + om * depth) / v_roll
+    eta = -(motion.lateral_speed_m_per_s * cos_d - om * x_m * sin_d) / v_roll
+    phi = om * sin_d / v_roll
+    return PatchCreepage(xi, eta, phi, v_roll, angle_rad)
+
+
+def mean_slope_angle(pressure_pa: np.ndarray, rail_slope: np.ndarray) -> float:
+    """The patch's angle for its creepages [rad]: ``atan`` of the pressure-weighted mean of the
+    rail's lateral slope ``dz/dy`` over the loaded cells (NaN cells left out). On a rounded
+    corner the slope changes across the patch; the spin and the lateral creepage are linear in
+    it, so their patch values are the weighted means (module doc)."""
+    w = np.where((pressure_pa > 0.0) & np.isfinite(rail_slope), pressure_pa, 0.0)
+    total = float(w.sum())
+    if total <= 0.0:
+        return 0.0
+    return math.atan(float(np.sum(w * np.where(np.isfinite(rail_slope), rail_slope, 0.0))) / total)
+
+
+def equivalent_ellipse(
+    pressure_pa: np.ndarray, dx_m: float, ds_m: float
+) -> tuple[float, float, float]:
+    """``(a, b, area)`` [m, m, m^2] of the ellipse standing for a patch: ``b`` half the
+    contact's width (in the plane, cells of ``ds_m``), ``a = area / (pi b)``."""
+    loaded = pressure_pa > 0.0
+    cols = np.nonzero(loaded.any(axis=0))[0]
+    area = float(np.count_nonzero(loaded)) * dx_m * ds_m
+    b = 0.5 * (cols[-1] - cols[0] + 1) * ds_m
+    return area / (math.pi * b), b, area
+
+
+def grid_fastsim(
+    pressure_pa: np.ndarray,
+    x_m: np.ndarray,
+    s_m: np.ndarray,
+    creep: PatchCreepage,
+    friction: float,
+    flexibility_m_per_pa: tuple[float, float, float],
+) -> tuple[float, float, float]:
+    """FASTSIM on a patch's grid: ``(Fx, Fs, Mn)`` [N, N, N m] (module doc).
+
+    Args:
+        pressure_pa: the pressure on the grid, rows along ``x_m`` (increasing), columns along
+            ``s_m``.
+        x_m, s_m: the cells' centres along the track and in the plane, from the spin's pole
+            (the pressure centre) [m], uniform.
+        creep: the creepages; friction: ``mu``.
+        flexibility_m_per_pa: ``(L1, L2, L3)`` [m/Pa].
+    """
+    l1, l2, l3 = flexibility_m_per_pa
+    dx = float(x_m[1] - x_m[0]) if x_m.size > 1 else 1.0
+    ds = float(s_m[1] - s_m[0]) if s_m.size > 1 else 1.0
+    gx = creep.xi / l1 - creep.phi_per_m * s_m / l3  # rigid slip over flexibility [Pa/m]
+    px = np.zeros(s_m.size)
+    py = np.zeros(s_m.size)
+    inside = np.zeros(s_m.size, dtype=bool)
+    fx = fs = mn = 0.0
+    for i in range(x_m.size - 1, -1, -1):
+        bound = friction * pressure_pa[i]
+        step = np.where(inside, dx, 0.5 * dx)  # from the cell edge where the strip enters
+        x_mid = x_m[i] + 0.5 * step
+        px = np.where(inside, px, 0.0) - step * gx
+        py = np.where(inside, py, 0.0) - step * (creep.eta / l2 + creep.phi_per_m * x_mid / l3)
+        mag = np.hypot(px, py)
+        scale = np.where(mag > bound, bound / np.where(mag > 0.0, mag, 1.0), 1.0)
+        px, py = px * scale, py * scale
+        inside = pressure_pa[i] > 0.0
+        px, py = np.where(inside, px, 0.0), np.where(inside, py, 0.0)
+        fx += float(px.sum())
+        fs += float(py.sum())
+        mn += float(np.sum(x_m[i] * py - s_m * px))
+    w = dx * ds
+    return fx * w, fs * w, mn * w
+
+
+def tangential_forces(
+    pressure_pa: np.ndarray,
+    x_m: np.ndarray,
+    s_m: np.ndarray,
+    creep: PatchCreepage,
+    motion: WheelMotion,
+    shear_modulus_pa: float,
+    poisson: float,
+) -> tuple[float, float]:
+    """The creep forces ``(Fx, Fs)`` [N] on the rail of a patch by ``motion.tangential``.
+
+    Args:
+        pressure_pa: the patch's pressure on its grid [Pa] (rows ``x_m``, columns ``s_m``).
+        x_m, s_m: cell centres from the pressure centre, along the track and in the contact
+            plane [m].
+        creep: the patch's creepages; motion: friction and the law's name.
+        shear_modulus_pa, poisson: ``G`` [Pa] and ``nu`` of both bodies.
+    """
+    dx = float(x_m[1] - x_m[0])
+    ds = float(s_m[1] - s_m[0])
+    normal = float(pressure_pa.sum()) * dx * ds
+    if normal <= 0.0:
+        return 0.0, 0.0
+    a, b, _ = equivalent_ellipse(pressure_pa, dx, ds)
+    c11, c22, c23 = kalker_coefficients(a / b, poisson)
+    g = shear_modulus_pa
+    if motion.tangential == "fastsim_grid":
+        flex = (
+            8.0 * a / (3.0 * c11 * g),
+            8.0 * a / (3.0 * c22 * g),
+            math.pi * a * math.sqrt(a / b) / (4.0 * c23 * g),
+        )
+        fx, fs, _ = grid_fastsim(pressure_pa, x_m, s_m, creep, motion.friction, flex)
+        return fx, fs
+    creep_model_code(motion.tangential)
+    return creep_forces(
+        motion.tangential, creep.xi, creep.eta, creep.phi_per_m, normal, a, b, g, c11, c22,
+        c23, motion.friction, creep.rolling_speed_m_per_s,
+    )  # fmt: skip
