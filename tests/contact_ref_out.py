@@ -16,7 +16,8 @@ def read_ref_out(path: Path) -> list[dict]:
     ``x_m, y_m, z_m, delta_rad, fn_n, fx_n, fs_n``: the normal force and the tangential forces
     along the track and laterally in the contact plane; ``y, z`` in the rail profile's
     coordinates; and its kinematics ``veloc_m_per_s, cksi, ceta, cphi_per_m``: CONTACT's
-    rolling speed and creepages, spin in 1/m)."""
+    rolling speed and creepages, spin in 1/m; ``zcp_w_m`` the reference point's height in the
+    wheel's axes, ``approach_m`` the patch's approach)."""
     lines = path.read_text(errors="replace").splitlines()
     cases: list[dict] = []
     for i, line in enumerate(lines):
@@ -34,6 +35,10 @@ def read_ref_out(path: Path) -> list[dict]:
         elif head[:2] == ["FN", "FX"]:
             fn, fx, fs = _floats(lines[i + 1])[:3]
             cases[-1]["patches"][-1].update({"fn_n": fn, "fx_n": fx, "fs_n": fs})
+        elif head[:1] == ["XCP(W)"]:
+            cases[-1]["patches"][-1]["zcp_w_m"] = _floats(lines[i + 1])[2] * 1e-3
+        elif head[:1] == ["FN/G"]:
+            cases[-1]["patches"][-1]["approach_m"] = _floats(lines[i + 1])[3] * 1e-3
         elif head[:1] == ["CHI"] and cases and cases[-1]["patches"]:
             v = _floats(lines[i + 1])
             cases[-1]["patches"][-1].update(

@@ -30,12 +30,20 @@ phi`` (Kalker 1990), by the law named in ``tangential``:
 
 - ``"fastsim_grid"`` (default): Kalker's simplified theory (FASTSIM, Kalker, VSD 11 (1982)
   1-13) marched along every grid strip of the patch from its leading edge (largest ``x``) with
-  the traction bound ``mu p(x, y)`` of the patch's own half-space pressure, the flexibilities
-  ``L1 = 8 a / (3 c11 G)``, ``L2 = 8 a / (3 c22 G)``, ``L3 = pi a sqrt(a/b) / (4 c23 G)`` of the
-  equivalent ellipse (``b`` half the contact's width in the plane, ``a = A / (pi b)`` so that
-  ``pi a b`` is the contact's area ``A``) and Kalker's coefficients for its ``a/b``
-  (:func:`railexu.contact.kalker.kalker_coefficients`); spin turns about the pressure centre.
-  Full sliding gives exactly ``mu N`` (the bound integrates to it cell by cell).
+  the traction bound ``mu p(x, y)`` of the patch's own half-space pressure; spin turns about
+  the pressure centre. The flexibilities make the no-slip force on the patch's own strips
+  Kalker's linear force of the equivalent ellipse (``b`` half the contact's width in the plane,
+  ``a = A / (pi b)`` so that ``pi a b`` is the contact's area ``A``; Kalker's coefficients
+  for its ``a/b``, :func:`railexu.contact.kalker.kalker_coefficients`):
+  ``L1 = M1 / (G a b c11)``, ``L2 = M1 / (G a b c22)``, ``L3 = M2 / (G (ab)^1.5 c23)`` with the
+  strips' moments ``M1 = int (x_lead - x) dA``, ``M2 = int (x_lead^2 - x^2) / 2 dA``
+  (:func:`strip_moments`); on an ellipse these are FASTSIM's own ``8 a / (3 c11 G)``, ...,
+  ``pi a sqrt(a/b) / (4 c23 G)``. Where a cell slides, its traction ``mu p`` acts against
+  its slip ``L (p - p_trial)`` (``L = diag(L1, L2)``; Coulomb's law in FASTSIM's elastic
+  model, solved by a few fixed-point steps): with ``L1 != L2`` scaling the trial traction
+  back along itself would turn full sliding towards ``(xi / L1, eta / L2)`` instead of against
+  the creepage. Full sliding gives exactly ``mu N`` (the bound integrates to it cell by
+  cell) against the creepage.
 - any creep law of :data:`railexu.contact.parameters.CREEP_MODELS` (``"polach"``,
   ``"fastsim"``, ...): that law on the equivalent ellipse with the normal force ``N``
   (:func:`railexu.contact.creep.creep_forces`).
@@ -188,9 +196,7 @@ def grid_fastsim(
         x_mid = x_m[i] + 0.5 * step
         px = np.where(inside, px, 0.0) - step * gx
         py = np.where(inside, py, 0.0) - step * (creep.eta / l2 + creep.phi_per_m * x_mid / l3)
-        mag = np.hypot(px, py)
-        scale = np.where(mag > bound, bound / np.where(mag > 0.0, mag, 1.0), 1.0)
-        px, py = px * scale, py * scale
+        px, py = _onto_bound(px, py, bound, l1, l2)
         inside = pressure_pa[i] > 0.0
         px, py = np.where(inside, px, 0.0), np.where(inside, py, 0.0)
         fx += float(px.sum())
@@ -198,6 +204,57 @@ def grid_fastsim(
         mn += float(np.sum(x_m[i] * py - s_m * px))
     w = dx * ds
     return fx * w, fs * w, mn * w
+
+
+def strip_moments(pressure_pa: np.ndarray, x_m: np.ndarray, s_m: np.ndarray) -> tuple[float, float]:
+    """``(M1, M2)`` of a patch's strips [m^3, m^4]: ``M1 = int (x_lead - x) dA`` and
+    ``M2 = int (x_lead^2 - x^2) / 2 dA`` over the loaded cells, ``x_lead`` the leading edge of
+    the cell's run of contact along its strip (``x`` from the spin's pole). In adhesion
+    FASTSIM gives ``Fx = -(xi / L1) M1`` and the spin's ``Fs = -(phi / L3) M2``; on an ellipse
+    ``M1 = 8 a^2 b / 3`` and ``M2 = pi a^3 b / 4`` (Kalker's L1, L3). Computed by the same
+    march as :func:`grid_fastsim` without a bound."""
+    unbounded = 1.0e30
+    m1 = -grid_fastsim(pressure_pa, x_m, s_m, PatchCreepage(1.0, 0.0, 0.0, 1.0, 0.0),
+                       unbounded, (1.0, 1.0, 1.0))[0]  # fmt: skip
+    m2 = -grid_fastsim(pressure_pa, x_m, s_m, PatchCreepage(0.0, 0.0, 1.0, 1.0, 0.0),
+                       unbounded, (1.0, 1.0, 1.0))[1]  # fmt: skip
+    return m1, m2
+
+
+def _onto_bound(
+    px: np.ndarray, py: np.ndarray, bound: np.ndarray, l1: float, l2: float, steps: int = 30
+) -> tuple[np.ndarray, np.ndarray]:
+    """The cells' tractions: the trial ``(px, py)`` where it lies within ``bound``, else the
+    traction of magnitude ``bound`` against the slip ``L (p - p_trial)``, ``L = diag(l1, l2)``:
+    ``p_i = p_trial_i L_i / (L_i + m)`` with ``m >= 0`` such that ``|p| = bound`` (Newton's
+    method, monotone from a start left of the root: ``|p(m)|`` is convex and decreasing). For
+    ``l1 = l2`` this is the trial scaled back, FASTSIM's rule."""
+    mag = np.hypot(px, py)
+    slide = mag > bound
+    if not np.any(slide):
+        return px, py
+    free = slide & (bound <= 0.0)  # outside the contact: no traction
+    px, py = np.where(free, 0.0, px), np.where(free, 0.0, py)
+    slide &= ~free
+    if not np.any(slide):
+        return px, py
+    # start left of the root: with min(l1, l2) for both, |p| would reach the bound at m0
+    lmin = min(l1, l2)
+    m = np.where(slide, lmin * (mag / np.where(slide, bound, 1.0) - 1.0), 0.0)
+    for _ in range(steps):
+        qx, qy = px * l1 / (l1 + m), py * l2 / (l2 + m)
+        norm = np.hypot(qx, qy)
+        if np.all(np.abs(norm - bound)[slide] <= 1e-10 * bound[slide]):
+            break
+        slope = -(qx * qx / (l1 + m) + qy * qy / (l2 + m)) / np.where(norm > 0.0, norm, 1.0)
+        step = np.where(
+            slide & (slope < 0.0), (norm - bound) / np.where(slope < 0.0, -slope, 1.0), 0.0
+        )
+        m = m + np.maximum(step, 0.0)
+    qx, qy = px * l1 / (l1 + m), py * l2 / (l2 + m)
+    norm = np.hypot(qx, qy)
+    scale = bound / np.where(norm > 0.0, norm, 1.0)  # the last Newton step's residual
+    return np.where(slide, qx * scale, px), np.where(slide, qy * scale, py)
 
 
 def tangential_forces(
@@ -227,11 +284,8 @@ def tangential_forces(
     c11, c22, c23 = kalker_coefficients(a / b, poisson)
     g = shear_modulus_pa
     if motion.tangential == "fastsim_grid":
-        flex = (
-            8.0 * a / (3.0 * c11 * g),
-            8.0 * a / (3.0 * c22 * g),
-            math.pi * a * math.sqrt(a / b) / (4.0 * c23 * g),
-        )
+        m1, m2 = strip_moments(pressure_pa, x_m, s_m)
+        flex = (m1 / (g * a * b * c11), m1 / (g * a * b * c22), m2 / (g * (a * b) ** 1.5 * c23))
         fx, fs, _ = grid_fastsim(pressure_pa, x_m, s_m, creep, motion.friction, flex)
         return fx, fs
     creep_model_code(motion.tangential)
