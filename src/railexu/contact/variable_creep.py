@@ -20,9 +20,14 @@ contact; CONTACT's VELOC) the creepages are the rail's velocity minus the wheel'
     eta = -(V_y cos delta - omega x sin delta) / V_r
     phi = omega sin delta / V_r          [1/m]   (-(omega . n) / V_r)
 
-so that ``xi < 0`` when the wheel's surface turns faster than it moves (traction). On
-``cross_brute`` (x = 45.8 mm, delta = -0.0199) they give -5.19e-3, 1.98e-3, 4.34e-2 1/m
-against CONTACT's -5.197e-3, 1.980e-3, 4.328e-2 1/m.
+so that ``xi < 0`` when the wheel's surface turns faster than it moves (traction). With
+CONTACT's own reference point, angle and wheel surface (``d = r0 + ZCP(W) + approach``) they
+reproduce its printed creepages: on ``cross_brute`` (x = 45.8 mm, delta = -0.0199)
+-5.197e-3, 1.985e-3, 4.337e-2 1/m against CONTACT's -5.197e-3, 1.980e-3, 4.328e-2 1/m (the
+angle is printed to 1e-4 rad). railexu's patch takes ``x`` and ``r_w`` at its pressure centre
+and, for ``eta`` and ``phi``, the pressure-weighted mean of the rail's lateral slope over the
+patch (:func:`mean_slope_angle`; the slope, and with it the spin, changes across a patch on a
+rounded corner).
 
 **Forces** (on the rail, along ``x`` and ``s``; equal and opposite on the wheel), with the
 signs of Kalker's linear theory ``Fx = -G a b c11 xi``, ``Fs = -G a b c22 eta - G (ab)^1.5 c23

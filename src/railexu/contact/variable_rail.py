@@ -26,12 +26,13 @@ Method:
    the plane's normal: vertical component ``N cos(delta)``, lateral ``N sin(delta)``.
 4. *Tangential problem per patch* (when a :class:`~railexu.contact.variable_creep.WheelMotion`
    is given): the patch's creepages from the wheelset's speed and pitch rate at its pressure
-   centre and angle, and its creep forces ``Fx`` (along the track) and ``Fs`` (laterally in the
-   contact plane) on the pressure grid of step 3 (:mod:`railexu.contact.variable_creep`,
-   CONTACT's axes and signs). The vertical and lateral forces on the rail then include them:
-   ``N cos(delta) + Fs sin(delta)`` and ``Fs cos(delta) - N sin(delta)`` (CONTACT's FZ(TR),
-   FY(TR)); with the same material on both sides the normal problem does not depend on the
-   tangential one (Kalker 1990, quasi-identity), so the normal pressure is solved once.
+   centre (with the pressure-weighted rail slope), and its creep forces ``Fx`` (along the
+   track) and ``Fs`` (laterally in the contact plane) on the pressure grid of step 3
+   (:mod:`railexu.contact.variable_creep`, CONTACT's axes and signs). The vertical and
+   lateral forces on the rail then include them: ``N cos(delta) + Fs sin(delta)`` and
+   ``Fs cos(delta) - N sin(delta)`` (CONTACT's FZ(TR), FY(TR)). With the same material on
+   both sides the normal problem does not depend on the tangential one (Kalker 1990,
+   quasi-identity), so the normal pressure is solved once.
 
 Without a motion only the normal problem is solved (frictionless). The wheelset is not rolled
 or yawed.
