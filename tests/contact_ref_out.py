@@ -12,7 +12,8 @@ def _floats(line: str) -> list[float]:
 
 
 def read_ref_out(path: Path) -> list[dict]:
-    """The cases of a ``.ref_out`` file: ``s_m, y_m, z_m, fz_n, patches`` (each patch
+    """The cases of a ``.ref_out`` file: ``s_m, y_m, z_m, fx_n, fy_n, fz_n, patches`` (the
+    total forces on the rail in track axes; each patch
     ``x_m, y_m, z_m, delta_rad, fn_n, fx_n, fs_n``: the normal force and the tangential forces
     along the track and laterally in the contact plane; ``y, z`` in the rail profile's
     coordinates; and its kinematics ``veloc_m_per_s, cksi, ceta, cphi_per_m``: CONTACT's
@@ -26,7 +27,8 @@ def read_ref_out(path: Path) -> list[dict]:
             s, y, z = _floats(lines[i + 1])[:3]
             cases.append({"s_m": s * 1e-3, "y_m": y * 1e-3, "z_m": z * 1e-3, "patches": []})
         elif head[:1] == ["FX(TR)"]:
-            cases[-1]["fz_n"] = _floats(lines[i + 1])[2]
+            fx, fy, fz = _floats(lines[i + 1])[:3]
+            cases[-1].update({"fx_n": fx, "fy_n": fy, "fz_n": fz})
         elif head[:1] == ["XCP(TR)"]:
             v = _floats(lines[i + 1])
             cases[-1]["patches"].append(

@@ -42,7 +42,13 @@ from railexu.contact.variable_creep import (
     patch_creepages,
     tangential_forces,
 )
-from railexu.contact.variable_rail import ContactSettings, WheelSection, patches_at, press_wheel
+from railexu.contact.variable_rail import (
+    ContactSettings,
+    WheelSection,
+    patches_at,
+    press_wheel,
+    total_forces,
+)
 from railexu.errors import InputError
 from railexu.profiles.variable import VariableProfile, read_slcs, read_yaml_slices
 from railexu.profiles.variable.slcs import _read_profile_points
@@ -113,6 +119,13 @@ def test_creep_forces_one_patch(wheel, case, slcs, index):
     sin_d, cos_d = math.sin(p.angle_rad), math.cos(p.angle_rad)
     assert p.vertical_force_n == pytest.approx(p.normal_force_n * cos_d + p.fs_n * sin_d)
     assert p.lateral_force_n == pytest.approx(p.fs_n * cos_d - p.normal_force_n * sin_d)
+    # CONTACT's total forces on the rail in track axes: FX(TR), FZ(TR) within 10 % of mu N
+    # and 3 % (the normal force's tolerance); FY(TR) carries N sin(delta), so an angle 0.03 rad
+    # off (wing_brute) moves it by 300 N: 10 % of mu N + N * 0.03
+    total = total_forces([p])
+    assert total.longitudinal_n == pytest.approx(ref["fx_n"], abs=0.10 * mu_n)
+    assert total.lateral_n == pytest.approx(ref["fy_n"], abs=0.10 * mu_n + 0.03 * t["fn_n"])
+    assert total.vertical_n == pytest.approx(ref["fz_n"], rel=0.03)
 
 
 def test_two_patches_with_friction(wheel):

@@ -263,6 +263,27 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion=None) -> Patc
     )
 
 
+@dataclass(frozen=True)
+class RailForces:
+    """The forces of all patches of a wheel on its rail(s) in track axes [N] (CONTACT's TOTAL
+    FORCES ON RAIL: FX(TR), FY(TR), FZ(TR); ``x`` along the track, ``y`` towards the field
+    side, ``z`` down)."""
+
+    longitudinal_n: float
+    lateral_n: float
+    vertical_n: float
+
+
+def total_forces(patches: list[Patch]) -> RailForces:
+    """The sum of the patches' forces on the rail in track axes: ``FX``, ``Fs cos(delta) -
+    N sin(delta)``, ``N cos(delta) + Fs sin(delta)`` [N]."""
+    return RailForces(
+        longitudinal_n=float(sum(p.fx_n for p in patches)),
+        lateral_n=float(sum(p.lateral_force_n for p in patches)),
+        vertical_n=float(sum(p.vertical_force_n for p in patches)),
+    )
+
+
 def _merge_duplicates(patches: list[Patch]) -> list[Patch]:
     """Two coarse regions whose fine boxes found the same patch: keep one."""
     out: list[Patch] = []
