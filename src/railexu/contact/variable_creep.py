@@ -67,7 +67,7 @@ import numpy as np
 
 from railexu.contact.creep import creep_forces
 from railexu.contact.kalker import kalker_coefficients
-from railexu.contact.parameters import CREEP_MODELS, creep_model_code
+from railexu.contact.parameters import CREEP_MODELS
 from railexu.errors import InputError, did_you_mean
 
 #: The tangential solutions by name: the patch's own grid, or a creep law on its ellipse.
@@ -293,7 +293,6 @@ def tangential_forces(
         flex = (m1 / (g * a * b * c11), m1 / (g * a * b * c22), m2 / (g * (a * b) ** 1.5 * c23))
         fx, fs, _ = grid_fastsim(pressure_pa, x_m, s_m, creep, motion.friction, flex)
         return fx, fs
-    creep_model_code(motion.tangential)
     return creep_forces(
         motion.tangential, creep.xi, creep.eta, creep.phi_per_m, normal, a, b, g, c11, c22,
         c23, motion.friction, creep.rolling_speed_m_per_s,

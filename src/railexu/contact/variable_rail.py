@@ -239,6 +239,11 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion=None) -> Patc
         r_w = wheel.nominal_radius_m + float(
             wheel.height(np.array([ym - y_ws_m - wheel.y_offset_m]))[0]
         )
+        if not math.isfinite(r_w):
+            raise ComputationError(
+                f"creepages at s = {s_m:.4f} m: the patch's centre y = {ym * 1e3:.2f} mm lies "
+                "beside the wheel's profile"
+            )
         with np.errstate(invalid="ignore"):  # NaN beside the rail: left out of the mean
             slope = np.gradient(rail.heights_on_grid(s_m + x, y), y, axis=1)
         creep = patch_creepages(xm, r_w, mean_slope_angle(p, slope), motion)
