@@ -45,7 +45,7 @@ phi`` (Kalker 1990), by the law named in ``tangential``:
   (:func:`strip_moments`); on an ellipse these are FASTSIM's own ``8 a / (3 c11 G)``, ...,
   ``pi a sqrt(a/b) / (4 c23 G)``. Where a cell slides, its traction ``mu p`` acts against
   its slip ``L (p - p_trial)`` (``L = diag(L1, L2)``; Coulomb's law in FASTSIM's elastic
-  model, solved by a few fixed-point steps): with ``L1 != L2`` scaling the trial traction
+  model, solved per cell by Newton's method): with ``L1 != L2`` scaling the trial traction
   back along itself would turn full sliding towards ``(xi / L1, eta / L2)`` instead of against
   the creepage. Full sliding gives exactly ``mu N`` (the bound integrates to it cell by
   cell) against the creepage.
@@ -290,7 +290,10 @@ def tangential_forces(
     g = shear_modulus_pa
     if motion.tangential == "fastsim_grid":
         m1, m2 = strip_moments(pressure_pa, x_m, s_m)
-        flex = (m1 / (g * a * b * c11), m1 / (g * a * b * c22), m2 / (g * (a * b) ** 1.5 * c23))
+        l3 = m2 / (g * (a * b) ** 1.5 * c23)
+        if not l3 > 0.0:  # strips mostly behind the pole: the ellipse's own L3 (Kalker 1982)
+            l3 = math.pi * a * math.sqrt(a / b) / (4.0 * c23 * g)
+        flex = (m1 / (g * a * b * c11), m1 / (g * a * b * c22), l3)
         fx, fs, _ = grid_fastsim(pressure_pa, x_m, s_m, creep, motion.friction, flex)
         return fx, fs
     return creep_forces(
