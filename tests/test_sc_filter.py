@@ -140,3 +140,32 @@ def test_contact_filter_length_is_checked():
         VariableRails(left=object(), contact_filter_m=-0.001)  # type: ignore[arg-type]
     with pytest.raises(InputError, match="contact_filter_m"):
         VariableRails(left=object(), contact_filter_m=float("nan"))  # type: ignore[arg-type]
+
+
+def test_uniform_zone_filtered_is_the_plain_zone():
+    """A zone whose slices are all the track's rail: the filtered station store equals the
+    unfiltered one within rounding (every station's table is the same rail; the weights sum
+    to 1), so the uniform zone still runs as plain track (tests/test_sc_dynamics.py)."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from uniform_zone import uniform_zone
+
+    from railexu.model.assembly import wheelset_geometry
+    from railexu.model.sc_tables import sc_kernel_fields
+    from railexu.track.track import ideal_straight_track
+    from railexu.vehicle.vehicle import load_vehicle
+
+    vehicle = load_vehicle(Path(__file__).resolve().parents[1] / "vehicles" / "wheelset.yaml")
+    track = ideal_straight_track()
+    zone = replace(uniform_zone(track, station_step_m=0.02), contact_filter_m=0.0)
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
+    width = vehicle.contact.curvature_smoothing_m
+    a = sc_kernel_fields(zone, geometry, width)
+    b = sc_kernel_fields(replace(zone, contact_filter_m=0.012), geometry, width)
+    for side in range(2):
+        ta = a["sc_tab"][a["sc_index"][:, side]][:, :, : K.T_SLOPE_MAX]
+        tb = b["sc_tab"][b["sc_index"][:, side]][:, :, : K.T_SLOPE_MAX]
+        ok = np.isfinite(ta)
+        assert np.array_equal(ok, np.isfinite(tb))
+        assert np.max(np.abs(ta[ok] - tb[ok])) < 1e-9 * max(1.0, np.max(np.abs(ta[ok])))

@@ -134,17 +134,20 @@ def _combine(key: tuple, alive: dict[int, np.ndarray], uses: dict[int, int]) -> 
         out = alive[key[0]]
     else:
         first = K.T_SLOPE_MAX
-        c = alive[key[0][0]].shape[1]
-        mins = [k for k in range(first, c) if (k - first) % 4 == 1]  # smallest z''
-        maxs = [k for k in range(first, c) if (k - first) % 4 != 1]
-        out = np.zeros_like(alive[key[0][0]])
-        out[:, mins] = np.inf
-        out[:, maxs] = -np.inf
+        a0 = alive[key[0][0]]
+        out = np.empty_like(a0)
+        # the bound columns in groups of four: (largest |slope|, smallest z'', largest z'',
+        # largest change), as :func:`railexu.model.sc_tables.pair_envelope_bounds` reads them
+        groups = out[:, first:].reshape(out.shape[0], -1, 4)
+        out[:, :first] = 0.0
+        out[:, first:] = a0[:, first:]
         for t, w in key:
             a = alive[t]
             out[:, :first] += w * a[:, :first]
-            out[:, mins] = np.minimum(out[:, mins], a[:, mins])
-            out[:, maxs] = np.maximum(out[:, maxs], a[:, maxs])
+            g = a[:, first:].reshape(groups.shape)
+            np.minimum(groups[..., 1], g[..., 1], out=groups[..., 1])
+            np.maximum(groups[..., 0], g[..., 0], out=groups[..., 0])
+            np.maximum(groups[..., 2:], g[..., 2:], out=groups[..., 2:])
     for t in _tables_of(key):
         uses[t] -= 1
         if uses[t] == 0:
