@@ -17,6 +17,10 @@ References outside the code under test:
   ``alpha step / L`` (a C1 surface sampled); without the filter the blend's error is
   ``alpha step / 4`` (first order) and its slope jumps by ``alpha / 2`` or more (the kink
   resolved over one station interval);
+- the same through the table pipeline (slices of the track's rail raised along a ruled ramp of
+  30 mrad, stations every 4, 2, 1 mm, no effective section): the blended height against the
+  ramp's box average by quadrature, 10.0 / 1.25 / 0.32 um (0.25 / 0.13 / 0.13 ``alpha / L
+  step^2``); unfiltered with the kinks on stations, the ramp itself within 10 nm;
 - a window of one table (a uniform zone, the plain rail between panels) keeps that table to the
   last bit; a filtered table's base columns are the weights' combination and its bound columns
   the envelope (a bound of a convex combination).
@@ -169,3 +173,66 @@ def test_uniform_zone_filtered_is_the_plain_zone():
         ok = np.isfinite(ta)
         assert np.array_equal(ok, np.isfinite(tb))
         assert np.max(np.abs(ta[ok] - tb[ok])) < 1e-9 * max(1.0, np.max(np.abs(ta[ok])))
+
+
+def _ramp_zone_heights(step_m: float, filter_m: float, rise_m: float = 0.0015):
+    """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
+    rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
+    slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
+    (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
+    0.02-0.13 m and the linearly blended table's height at the rail's top there minus the
+    plain rail's [m]."""
+    from pathlib import Path
+
+    from railexu.model.assembly import wheelset_geometry
+    from railexu.model.sc_tables import sc_kernel_fields
+    from railexu.profiles import rail_profile
+    from railexu.profiles.variable import VariableProfile
+    from railexu.profiles.variable.slices import ProfileSlices
+    from railexu.track.track import ideal_straight_track
+    from railexu.vehicle.vehicle import load_vehicle
+
+    track = ideal_straight_track()
+    vehicle = load_vehicle(Path(__file__).resolve().parents[1] / "vehicles" / "wheelset.yaml")
+    rail = rail_profile(track.rail_profile)
+    y = np.arange(rail.y_min, rail.y_max, 5e-5)
+    flat = np.column_stack([y, -rail.height(y)])
+    raised = flat - np.array([0.0, rise_m])  # z down: raised by rise_m
+    profile = VariableProfile(
+        ProfileSlices("ramp", np.array([0.0, 0.05, 0.1, 0.15]), (flat, flat, raised, raised),
+                      None, (None,) * 4, ("60E1",))
+    )  # fmt: skip
+    rails = VariableRails(left=profile, start_m=5.0, station_step_m=step_m, x_max_m=0.0,
+                          contact_filter_m=filter_m)  # fmt: skip
+    geometry = wheelset_geometry(vehicle.wheelsets[0], track)
+    f = sc_kernel_fields(rails, geometry, vehicle.contact.curvature_smoothing_m)
+    heights = f["sc_tab"][f["sc_index"][:, 0]][:, :, 0]
+    row = int(np.nanargmax(heights[0]))  # the rail's top
+    x = f["sc_stations"] - rails.start_m
+    s = np.linspace(0.02, 0.13, 2201)
+    return s, np.interp(s, x, heights[:, row] - heights[0, row])
+
+
+def test_filtered_ramp_of_slices_converges_to_the_box_average():
+    """Through the table pipeline (slices -> station tables -> filter -> linear blend): the
+    blended height along a ruled ramp against its box average computed here by quadrature of
+    the known ramp (``rise clip((s - 0.05) / 0.05, 0, 1)`` averaged over 12 mm; the slices'
+    raise is in the rail's axes, inclined 1:40 on the track: ``rise cos(atan(1/40))`` in the
+    track's vertical). Unfiltered with the kinks on stations (2 and 1 mm) the blend is the
+    ramp itself within 10 nm."""
+    rise, length = 0.0015, 0.012  # 30 mrad along the track, a 12 mm filter
+    vertical = rise * np.cos(np.arctan(1 / 40))
+    ramp = lambda u: vertical * np.clip((u - 0.05) / 0.05, 0.0, 1.0)  # noqa: E731
+    u = np.linspace(-0.5, 0.5, 4001) * length
+    steps = (0.004, 0.002, 0.001)
+    errors = []
+    for h in steps:
+        s, blend = _ramp_zone_heights(h, length, rise)
+        exact = np.array([np.trapezoid(ramp(v + u), u) / length for v in s])
+        errors.append(np.max(np.abs(blend - exact)))
+    alpha = rise / 0.05
+    for h, e in zip(steps, errors, strict=True):
+        assert e <= 0.3 * alpha / length * h**2  # as the kink above (measured 0.16-0.25)
+    assert errors[0] / errors[2] > 8.0  # second order over two halvings
+    s, blend = _ramp_zone_heights(0.002, 0.0, rise)
+    assert np.max(np.abs(blend - ramp(s))) < 1e-8
