@@ -236,3 +236,13 @@ def test_filtered_ramp_of_slices_converges_to_the_box_average():
     assert errors[0] / errors[2] > 8.0  # second order over two halvings
     s, blend = _ramp_zone_heights(0.002, 0.0, rise)
     assert np.max(np.abs(blend - ramp(s))) < 1e-8
+
+
+def test_turnout_key_sets_the_filter_and_refuses_a_bad_length():
+    from railexu.track.track import load_track
+
+    track = load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=12 mm"])
+    assert track.variable_rails.contact_filter_m == pytest.approx(0.012)
+    assert load_track("turnout_uk_r245_diverging_facing").variable_rails.contact_filter_m == 0.0
+    with pytest.raises(InputError, match="contact_filter"):
+        load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=-1 mm"])
