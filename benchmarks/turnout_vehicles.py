@@ -231,6 +231,8 @@ def main() -> None:
     ap.add_argument("--step-m", type=float, default=None, help="station step [m]")
     ap.add_argument("--crossing-step-m", type=float, default=None,
                     help="the crossing panel's station step [m]")  # fmt: skip
+    ap.add_argument("--contact-filter-m", type=float, default=None,
+                    help="the contact filter's length [m] (turnout.contact_filter)")  # fmt: skip
     ap.add_argument("--time-step", type=float, default=0.4e-3, help="[s]")
     ap.add_argument("--vehicles", default="")
     ap.add_argument("--routes", default=",".join(ROUTES))
@@ -243,6 +245,8 @@ def main() -> None:
         sets.append(f"turnout.station_step={a.step_m} m")
     if a.crossing_step_m is not None:
         sets.append(f"turnout.crossing_station_step={a.crossing_step_m} m")
+    if a.contact_filter_m is not None:
+        sets.append(f"turnout.contact_filter={a.contact_filter_m} m")
     if a.save is not None:
         a.save.mkdir(parents=True, exist_ok=True)
     kw = {"time_step_s": a.time_step, "output_interval_s": a.time_step}

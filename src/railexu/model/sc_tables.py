@@ -26,6 +26,7 @@ from railexu.contact.variable_tables import (
     station_tables_in_order,
     table_grid,
 )
+from railexu.model.sc_filter import filter_weights, filtered_index, filtered_tables
 from railexu.profiles.variable import VariableProfile
 from railexu.profiles.variable.zoned import ZonedProfile
 from railexu.track.variable_rails import VariableRails
@@ -66,6 +67,9 @@ def sc_kernel_fields(
             x_max_m=rails.x_max_m, curvature_smoothing_m=curvature_smoothing_m,
             share_plain=share_tables,
         )  # fmt: skip
+        if rails.contact_filter_m > 0.0:  # the contact filter along the track (sc_filter)
+            index, keys = filtered_index(index, filter_weights(stations, rails.contact_filter_m))
+            tables = _InOrder(lambda source=tables, keys=keys: filtered_tables(source, keys))
         if not share_rows:  # every station its own row
             tables = _per_station(tables, index)
             index = np.arange(index.size, dtype=np.int64)

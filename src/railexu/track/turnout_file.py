@@ -128,6 +128,7 @@ def turnout_from_dict(
         station_step_m=step,
         x_max_m=design["effective_length"],
         station_steps_m=panel_station_steps(spans, t, step),
+        **({} if t["contact_filter"] is None else {"contact_filter_m": t["contact_filter"]}),
     )  # fmt: skip
     too_many = rails.too_many_stations()
     if too_many:

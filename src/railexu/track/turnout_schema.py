@@ -36,6 +36,10 @@ TURNOUT = Schema(
               "(wing rail, nose, check rail; default: station_step): finer stations where the "
               "rails move laterally fastest", unit="m", default=OPTIONAL, minimum=1e-4,
               maximum=1.0),
+        Field("contact_filter", "the station tables averaged along the track over this length "
+              "(a contact patch's, railexu's assumption; 0: not filtered; default: "
+              "railexu.track.variable_rails.DEFAULT_CONTACT_FILTER_M)", unit="m",
+              default=OPTIONAL, minimum=0.0, maximum=0.1),
     ),
     "A turnout as the track: its route and direction (docs/switches-and-crossings.md, "
     "'The turnout'). Generates `geometry` and `variable_rails`: give neither with it.",

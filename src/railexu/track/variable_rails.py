@@ -31,6 +31,9 @@ SAME_STATION_M = 1.0e-6
 #: stations stay within about 7 GB; the shipped turnout with 10 mm crossing stations has 1046.
 MAX_STATIONS = 5000
 
+#: The contact filter's length along the track [m] (:mod:`railexu.model.sc_filter`).
+DEFAULT_CONTACT_FILTER_M = 0.0
+
 
 @dataclass(frozen=True, eq=False)
 class VariableRails:
@@ -53,6 +56,10 @@ class VariableRails:
             stations of a zone met in reverse (a track file's ``direction: trailing``) are then
             the mirror image of the facing zone's, at the same slices' ``s``. Refused without
             parts (a uniform zone's stations run from its first slice: the kernel's division).
+        contact_filter_m: length of the contact filter along the track [m]: the station tables
+            are the effective section averaged over a box of this length centred on each
+            station (:mod:`railexu.model.sc_filter`, railexu's assumption for a contact patch
+            10-15 mm long); 0: not filtered.
     """
 
     left: VariableProfile | None = None
@@ -63,11 +70,12 @@ class VariableRails:
     x_max_m: float = 0.06
     station_steps_m: tuple[tuple[float, float, float], ...] = ()
     grids_from_end: bool = False
+    contact_filter_m: float = DEFAULT_CONTACT_FILTER_M
 
     def __post_init__(self) -> None:
         if self.left is None and self.right is None:
             raise InputError("variable rails: give a variable profile for the left or right rail")
-        for name in ("start_m", "station_step_m", "x_max_m"):
+        for name in ("start_m", "station_step_m", "x_max_m", "contact_filter_m"):
             value = getattr(self, name)
             if not math.isfinite(value):
                 raise InputError(f"variable rails: {name} = {value}: expected a finite number")
@@ -77,6 +85,10 @@ class VariableRails:
             )
         if not 0.0 <= self.x_max_m <= 0.2:
             raise InputError(f"variable rails: x_max_m = {self.x_max_m}: expected 0 .. 0.2 m")
+        if not 0.0 <= self.contact_filter_m <= 0.1:
+            raise InputError(
+                f"variable rails: contact_filter_m = {self.contact_filter_m}: expected 0 .. 0.1 m"
+            )
         parts = sorted(tuple(float(v) for v in p) for p in self.station_steps_m)
         for a, b, step in parts:
             if not (math.isfinite(a) and math.isfinite(b) and a < b):

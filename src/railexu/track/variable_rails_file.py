@@ -71,6 +71,7 @@ def variable_rails_from_dict(
         left=sides[0], right=sides[1], start_m=p["start"], station_step_m=p["station_step"],
         rail_origin_m=None if origin is None else (origin[0], origin[1]),
         x_max_m=p["effective_length"],
+        **({} if p["contact_filter"] is None else {"contact_filter_m": p["contact_filter"]}),
     )  # fmt: skip
     _check_zone(sec, rails, track_start_m, track_end_m)
     if sec.has("station_steps"):

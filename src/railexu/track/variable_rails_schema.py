@@ -56,6 +56,10 @@ VARIABLE_RAILS = {
             Field("effective_length", "half-length of the effective section (a wheel touches "
                   "a rising nose ahead of its axle)", unit="m", default=0.06, minimum=0.0,
                   maximum=0.2),
+            Field("contact_filter", "the station tables averaged along the track over this "
+                  "length (a contact patch's, railexu's assumption; 0: not filtered; default: "
+                  "railexu.track.variable_rails.DEFAULT_CONTACT_FILTER_M)", unit="m",
+                  default=OPTIONAL, minimum=0.0, maximum=0.1),
         ),
         "A zone whose rails vary along the track: slices per side interpolated between them "
         "(docs/switches-and-crossings.md).",
