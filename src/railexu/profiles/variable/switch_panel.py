@@ -194,7 +194,8 @@ def switch_panel_slices(
     regular = planing.slice_step_m * np.arange(n + 1)  # the last at or beyond s_end
     stations = [-planing.runout_m, *regular, regular[-1] + 0.01]  # then the plain rail
     points, features, names = [], [], []
-    head_end_m = float(arc_length(p)[p.shape[0] - head.shape[0]])  # the extension's length
+    # the head's end on the rail with its gauge face continued: the continued face's length
+    head_end_m = max(float(arc_length(p)[p.shape[0] - head.shape[0]]), TIE_LENGTH_M)
     nan = math.nan
     for k, s in enumerate(stations):
         if k == len(stations) - 1:  # the plain rail: the blade alone
@@ -233,7 +234,7 @@ def _panel_section(
     nan = math.nan
     if y_s - blade[0, 0] < MIN_VISIBLE_M:  # the blade hidden under the stock rail's head
         a = arc_length(stock)
-        head_end = float(np.interp(y_g + d, stock[:, 0], a))
+        head_end = max(float(np.interp(y_g + d, stock[:, 0], a)), TIE_LENGTH_M)
         corner = max(float(np.interp(y_corner, stock[:, 0], a)), head_end + TIE_LENGTH_M)
         return stock, [nan, nan, nan, nan, 0.0, head_end, corner, math.inf]
     blade = _cut(blade, hi=y_s)
@@ -241,9 +242,8 @@ def _panel_section(
     a_blade = arc_length(blade)
     blade_len = float(a_blade[-1])
     # the blade's head end (material) once it shows, else tied to the blade's visible end
-    blade_head = min(float(np.interp(y_g, blade[:, 0], a_blade)) if y_g > blade[0, 0] else 0.0,
-                     blade_len - TIE_LENGTH_M)  # fmt: skip
-    blade_head = max(blade_head, 0.5 * blade_len) if blade_head <= 0.0 else blade_head
+    blade_head = float(np.interp(y_g, blade[:, 0], a_blade))
+    blade_head = min(max(blade_head, TIE_LENGTH_M), blade_len - TIE_LENGTH_M)
     start = blade_len + float(np.hypot(*(stock[0] - blade[-1])))  # the joint: no part
     a_stock = start + arc_length(stock)
     stock_head = max(float(np.interp(y_g + d, stock[:, 0], a_stock)), start + TIE_LENGTH_M)
