@@ -90,7 +90,8 @@ def test_surface_between_slices_lies_between_them(panel):
     for i in range(s.size - 1):
         a, b = z[i], z[i + 1]
         band = np.isfinite(a) & np.isfinite(b) & (np.minimum(a, b) < BAND_DEPTH_M)
-        ends = [e for e in (_blade_end_y(profile, s[i]), _blade_end_y(profile, s[i + 1])) if e]
+        ends = [_blade_end_y(profile, x) for x in (s[i], s[i + 1])]
+        ends = [e for e in ends if e is not None]
         if ends:
             band &= (y < min(ends) - 2.5e-4) | (y > max(ends) + 2.5e-4)
         for w in (0.25, 0.5, 0.75):
