@@ -3,8 +3,9 @@ rail's vertical force is monotone in the wheel's height, and whether the sum of 
 forces is continuous along the panel (docs/switches-and-crossings.md, "Rail-to-rail transfer",
 "The kernel on the blade"). Not a timing: the numbers the docs quote.
 
-Usage: ``python benchmarks/sc_switch_kernel_scan.py [through|diverging] [monotone|pressed]``
-(default: both routes, both scans; ~10 min of processor time per route and scan).
+Usage: ``python benchmarks/sc_switch_kernel_scan.py [through|diverging] [monotone|pressed|touch]
+[--range FROM TO]`` (default: both routes, the scans monotone and pressed, s = -0.1 .. 4.6 m;
+~10 min of processor time per route and scan; ``--range 0.8 0.95``: from the toe [m]).
 
 - ``monotone``: at every 25 mm from 0.1 m before the toe to 4.575 m, the wheelset vehicle's
   wheel (S1002, r0 = 625 mm) at lateral -8 .. +8 mm (every 2 mm, towards the panel rail's
@@ -28,6 +29,7 @@ from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
 from railexu.contact.evaluation import WheelsetContactModel
+from railexu.contact.variable_rail import WheelSection, rail_touch_heights
 from railexu.contact.variable_tables import section_rail_arrays
 from railexu.model.assembly import wheelset_geometry
 from railexu.profiles.variable.rails import rail_index
@@ -49,6 +51,7 @@ class Panel:
         self.toe_m = self.zoned.panels[0].s0_m
         geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
         self.pair = geometry.pairs[self.side]
+        self.profile = self.zoned.panels[0].profile  # s from the toe
         self.model = WheelsetContactModel(geometry)
         self.s_m = None
 
@@ -74,11 +77,15 @@ class Panel:
         return f
 
 
+#: The scanned range from the toe [m] (``--range``).
+RANGE_M = [-0.1, 4.6]
+
+
 def monotone(panel: Panel) -> int:
     r0 = panel.pair.nominal_radius_m
     heights = np.linspace(r0 - 0.006, r0 + 0.006, 1201)
     found = 0
-    for s in np.arange(-0.1, 4.6, 0.025):
+    for s in np.arange(RANGE_M[0], RANGE_M[1], 0.025):
         panel.at(s)
         for y in LATERALS_M:
             f = np.array([panel.forces(y, h) for h in heights])
@@ -97,7 +104,7 @@ def monotone(panel: Panel) -> int:
 
 def pressed(panel: Panel) -> None:
     r0 = panel.pair.nominal_radius_m
-    s_all = np.arange(-0.1, 4.6, 0.005)
+    s_all = np.arange(RANGE_M[0], RANGE_M[1], 0.005)
     h = np.full((s_all.size, LATERALS_M.size, 2), np.nan)
     for i, s in enumerate(s_all):
         panel.at(s)
@@ -117,16 +124,44 @@ def pressed(panel: Panel) -> None:
               f"{np.nanmin(approach) * 1e6:.0f} .. {np.nanmax(approach) * 1e6:.0f} um")  # fmt: skip
 
 
+def touch(panel: Panel) -> None:
+    r0 = panel.pair.nominal_radius_m
+    wheel = WheelSection.from_pair(panel.pair)
+    s_all = np.arange(RANGE_M[0], RANGE_M[1], 0.005)
+    kernel, rigid = np.full(s_all.size, np.nan), np.full(s_all.size, np.nan)
+    for i, s in enumerate(s_all):
+        panel.at(s)
+        with contextlib.suppress(ValueError):
+            h = brentq(lambda z: panel.forces(0.0, z).sum() - 1.0, r0 - 0.006, r0 + 0.006,
+                       xtol=1e-11)  # fmt: skip
+            kernel[i] = -(h - r0)  # z down, from the nominal radius
+        rigid[i] = np.nanmin(rail_touch_heights(panel.profile, wheel, float(s), 0.0))
+    d = kernel - rigid
+    d -= np.nanmedian(d)  # the kernel's height from r0, the rigid one's from the profile's z
+    for name, z in (("kernel", kernel), ("rigid", rigid)):
+        j = int(np.nanargmax(np.abs(np.diff(z))))
+        print(f"  {name}: largest step {abs(np.diff(z)[j]) * 1e6:.2f} um at {s_all[j]:.3f} m, "
+              f"largest second difference {np.nanmax(np.abs(np.diff(z, 2))) * 1e6:.3f} um, "
+              f"monotone {bool(np.all(np.diff(z) >= 0) or np.all(np.diff(z) <= 0))}")  # fmt: skip
+    j = int(np.nanargmax(np.abs(d)))
+    where = f"{abs(d[j]) * 1e6:.2f} um at {s_all[j]:.3f} m"
+    print(f"  kernel - rigid (less its median): largest {where}")
+
+
 def main(routes=("through", "diverging"), scans=("monotone", "pressed")) -> None:
     for route in routes:
         panel = Panel(route)
         for scan in scans:
-            print(f"{route}, {scan}:", flush=True)
-            {"monotone": monotone, "pressed": pressed}[scan](panel)
+            print(f"{route}, {scan} (s = {RANGE_M[0]} .. {RANGE_M[1]} m):", flush=True)
+            {"monotone": monotone, "pressed": pressed, "touch": touch}[scan](panel)
 
 
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if "--range" in args:
+        k = args.index("--range")
+        RANGE_M[:] = [float(args[k + 1]), float(args[k + 2])]
+        del args[k : k + 3]
     routes = tuple(a for a in args if a in ("through", "diverging"))
-    scans = tuple(a for a in args if a in ("monotone", "pressed"))
+    scans = tuple(a for a in args if a in ("monotone", "pressed", "touch"))
     main(routes or ("through", "diverging"), scans or ("monotone", "pressed"))

@@ -28,11 +28,35 @@ from the switch toe along the route), with ``y_g`` the plain rail head's gauge-s
 Each slice is one polyline ``z(y)``: the blade's visible part, then the stock rail's (1 um
 apart where they meet). Feature points make them two separate rails whose edges stay edges
 (:mod:`railexu.profiles.variable.interpolate`), so that no spline runs across the step where
-they meet. Feature columns: blade start, blade end, a column always absent (the joint is no
-part), stock start, stock end; NaN where a rail is absent (the blade where it does not show,
-the stock rail beyond ``stock_reach``). The rail's gauge face is continued downwards
-(:func:`extended_gauge_face`). ``runout``: the zone begins that far ahead of the toe (the
-plain rail there).
+they meet. The interpolation pairs the points of two slices by their fraction of a part's
+length, so the features also tie the *same material points* of each rail together
+(CONTACT's idea of features): both rails are the plain rail moved rigidly (the blade lowered
+by ``drop``, the stock rail moved by ``d``), and only where one rail hides the other does a
+part's end move along the rail. Feature columns (:data:`FEATURES`):
+
+- ``blade start``: the blade's lowest point (the continued gauge face's end; material);
+- ``blade head end``: where the rail's own head profile begins above the continued gauge face
+  (material), or just before the blade's visible end while the blade shows less;
+- ``blade end``: where the stock rail comes on top (moves along the blade);
+- a column always absent (the joint is no part);
+- ``stock start``: the stock rail's first visible point (moves along it);
+- ``stock head end``: the stock rail's head end (material) while it shows, else just after its
+  start;
+- ``stock corner``: the stock rail's point ``tip_width + 1 mm`` field-side of its head's
+  gauge-side edge (material): the blade (``tip_width + d`` wide, its back against the stock
+  rail's web) never covers it, so the stock rail's head from there on, where wheels run, is
+  one material part in every slice;
+- ``stock end``.
+
+NaN where a rail is absent (the blade where it does not show, the stock rail beyond
+``stock_reach``). Without the material features the stock rail's part began at its visible
+start, which jumps from its gauge face's foot to its head where the blade's gauge face takes
+over (0.850-0.875 m from the toe at R 245 m): the fractions then paired points 27 mm apart
+along the rail, an 84 um dip of the stock rail's top under a centred wheel and a 5.7 mm
+(vertical) error on the gauge face between two slices that agree within 0.23 mm
+(docs/switches-and-crossings.md, "The switch panel"). The rail's gauge face is continued
+downwards (:func:`extended_gauge_face`). ``runout``: the zone begins that far ahead of the toe
+(the plain rail there).
 """
 
 from __future__ import annotations
@@ -50,6 +74,14 @@ MIN_VISIBLE_M = 2.0e-4
 #: Width of the joint between the blade's back and the stock rail's cut face [m] (a graph
 #: ``z(y)`` needs ``y`` to increase; 1 um is far below the kernel's 0.1 mm table step).
 JOINT_WIDTH_M = 1.0e-6
+#: Shortest part that ties a moving part end to a material feature [m] along the rail.
+TIE_LENGTH_M = 1.0e-4
+#: How far field-side of the blade's widest reach under the stock rail's head (``tip_width``
+#: from its gauge-side edge) the stock rail's ``stock corner`` feature lies [m].
+CORNER_MARGIN_M = 1.0e-3
+#: The feature columns of a switch panel's slices (module docstring).
+FEATURES = ("blade start", "blade head end", "blade end", "joint (absent)", "stock start",
+            "stock head end", "stock corner", "stock end")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -70,11 +102,10 @@ class SwitchPlaning:
             slices [m] (0.13 m: its cut edge then lies > 85 mm field-side of the rail's crown,
             beyond the field face of a wheel displaced 10 mm; railexu's assumption).
         slice_step_m: spacing of the generated slices [m] (25 mm: the visible parts of blade
-            and stock rail change their extent from slice to slice, which the arc-length
-            interpolation between slices follows only approximately: at 25 mm the surface is
-            within 0.1 mm of 12.5 mm slices, except in the one interval where the blade's gauge
-            face takes over from the stock rail's, 0.85-0.875 m from the toe at R 245 m, 3.3 mm;
-            at 0.25 mm it was 4 mm over 0.8-0.9 m).
+            and stock rail change their extent from slice to slice; with the material feature
+            points (:data:`FEATURES`) the surface at 25 mm lies within 59 um (normal distance)
+            of the rule's own 12.5 mm slices on the running band at R 245 m, 2.5 um where the
+            blade's gauge face takes over, 0.850-0.875 m from the toe; railexu's choice).
     """
 
     tip_width_m: float = 0.006
@@ -153,6 +184,7 @@ def switch_panel_slices(
     p = np.asarray(rail_points_m, dtype=float)
     if p.ndim != 2 or p.shape[0] < 4 or not np.all(np.diff(p[:, 0]) > 0):
         raise ProfileError(f"{source}: the plain rail's points must be a graph z(y), y increasing")
+    head = p
     y_head = float(p[0, 0])  # the head's gauge-side edge: the blade's width is measured from it
     p = extended_gauge_face(p)
     if not (math.isfinite(radius_m) and radius_m >= 50.0):
@@ -162,9 +194,12 @@ def switch_panel_slices(
     regular = planing.slice_step_m * np.arange(n + 1)  # the last at or beyond s_end
     stations = [-planing.runout_m, *regular, regular[-1] + 0.01]  # then the plain rail
     points, features, names = [], [], []
+    # the head's end on the rail with its gauge face continued: the continued face's length
+    head_end_m = max(float(arc_length(p)[p.shape[0] - head.shape[0]]), TIE_LENGTH_M)
+    nan = math.nan
     for k, s in enumerate(stations):
-        if k == len(stations) - 1:
-            pts, feat = p.copy(), [0.0, math.inf, math.nan, math.nan, math.nan]
+        if k == len(stations) - 1:  # the plain rail: the blade alone
+            pts, feat = p.copy(), [0.0, head_end_m, math.inf, nan, nan, nan, nan, nan]
         else:
             pts, feat = _panel_section(p, y_head, float(s), radius_m, planing)
         points.append(pts)
@@ -183,8 +218,9 @@ def switch_panel_slices(
 def _panel_section(
     p: np.ndarray, y_g: float, s: float, radius_m: float, planing: SwitchPlaning
 ) -> tuple[np.ndarray, list[float]]:
-    """The top surface at ``s`` from the toe (``y_g``: the head's gauge-side edge) as blade and
-    stock rail, and the curve's features (the blade absent where it does not show)."""
+    """The top surface at ``s`` from the toe (``p``: the plain rail with its gauge face
+    continued, ``y_g``: its head's gauge-side edge) as blade and stock rail, and the curve's
+    features (:data:`FEATURES`; the blade's absent where it does not show)."""
     y_f = float(p[-1, 0])
     d = float(divergence_m(s, radius_m))
     w = min(planing.tip_width_m + d, y_f - y_g)
@@ -193,14 +229,27 @@ def _panel_section(
     blade[:, 1] += drop
     stock = p.copy()
     stock[:, 0] += d
+    y_corner = min(y_g + planing.tip_width_m + CORNER_MARGIN_M, y_f - MIN_VISIBLE_M) + d
     y_s = _stock_on_top_from(blade, stock)
+    nan = math.nan
     if y_s - blade[0, 0] < MIN_VISIBLE_M:  # the blade hidden under the stock rail's head
-        return stock, [math.nan, math.nan, math.nan, 0.0, math.inf]
+        a = arc_length(stock)
+        head_end = max(float(np.interp(y_g + d, stock[:, 0], a)), TIE_LENGTH_M)
+        corner = max(float(np.interp(y_corner, stock[:, 0], a)), head_end + TIE_LENGTH_M)
+        return stock, [nan, nan, nan, nan, 0.0, head_end, corner, math.inf]
     blade = _cut(blade, hi=y_s)
     stock = _cut(stock, lo=min(y_s + JOINT_WIDTH_M, float(stock[-1, 0]) - MIN_VISIBLE_M))
-    blade_len = float(arc_length(blade)[-1])
-    joint_len = float(np.hypot(*(stock[0] - blade[-1])))  # not a part: two separate rails
-    return np.vstack((blade, stock)), [0.0, blade_len, math.nan, blade_len + joint_len, math.inf]
+    a_blade = arc_length(blade)
+    blade_len = float(a_blade[-1])
+    # the blade's head end (material) once it shows, else tied to the blade's visible end
+    blade_head = float(np.interp(y_g, blade[:, 0], a_blade))
+    blade_head = min(max(blade_head, TIE_LENGTH_M), blade_len - TIE_LENGTH_M)
+    start = blade_len + float(np.hypot(*(stock[0] - blade[-1])))  # the joint: no part
+    a_stock = start + arc_length(stock)
+    stock_head = max(float(np.interp(y_g + d, stock[:, 0], a_stock)), start + TIE_LENGTH_M)
+    corner = max(float(np.interp(y_corner, stock[:, 0], a_stock)), stock_head + TIE_LENGTH_M)
+    features = [0.0, blade_head, blade_len, nan, start, stock_head, corner, math.inf]
+    return np.vstack((blade, stock)), features
 
 
 def _stock_on_top_from(blade: np.ndarray, stock: np.ndarray) -> float:
