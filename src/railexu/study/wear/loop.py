@@ -14,7 +14,9 @@ One step:
    each case's wear is kept in ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from
    the studies and these files;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
-3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
+3. the depth per km is smoothed (:func:`~.profiles.smooth_normal_depth`: the depth normal to
+   the current profile, spread by a Gaussian along ``y`` and turned back into the height change
+   at each point's own flank angle; area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
    wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
    per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
@@ -62,8 +64,9 @@ from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
     flange_measures,
     profile_check,
+    profile_slope,
     removed_area,
-    smooth_depth,
+    smooth_normal_depth,
     worn_profile,
 )
 from railexu.study.wear.route import Route, RouteCase, load_route
@@ -301,7 +304,7 @@ def wear_loop(
             rates = _route_rates(vehicle, vehicle_file, profiles, route,
                                  out / f"step_{step:03d}", law, workers, scheduler,
                                  initial_lateral_m, keys, smoothing_m, log,
-                                 attempts.get(step, 0))  # fmt: skip
+                                 attempts.get(step, 0), current)  # fmt: skip
         except KeyboardInterrupt:  # Ctrl-C, SIGTERM: the finished cases and steps are kept
             result.reason = (f"interrupted at {mileage:.6g} km (profiles of step {step}); run "
                              "the same loop again to resume")  # fmt: skip
@@ -460,8 +463,10 @@ def _made_again(out: Path, step: int, attempts: dict, notes: dict, why: str,
 
 
 def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
-                 initial_lateral_m, keys, smoothing_m, log, attempt=0) -> dict:  # fmt: skip
-    """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
+                 initial_lateral_m, keys, smoothing_m, log, attempt=0,
+                 current=None) -> dict:  # fmt: skip
+    """The route's smoothed depth per km of every wheel (share-weighted over the cases; smoothed
+    as the depth normal to ``current[key]``, the profiles the route ran with), its
     volume rate per km, the largest depth per km and the cases that did not complete;
     ``folder``: the study folder of the route's run (``step_NNN/route_again1``)."""
     veh = _with_profiles(vehicle, profiles)
@@ -483,7 +488,11 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
              for k, _, _ in keys}  # fmt: skip
     vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
            for k, _, _ in keys}  # fmt: skip
-    smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
+    y = grid[0] + grid[1] * np.arange(int(grid[2]))
+    if current is None:
+        current = {k: wheel_profile(profiles[k]) for k, _, _ in keys}
+    smooth = {k: smooth_normal_depth(d, grid[1], smoothing_m, profile_slope(current[k], y))
+              for k, d in depth.items()}  # fmt: skip
     return {
         "rcf": _route_rcf(cases, keys),
         "smooth": smooth,
@@ -492,7 +501,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "bad": bad,
         "again": again,
         "min_time_step_s": min(steps) if steps else math.nan,
-        "y": grid[0] + grid[1] * np.arange(int(grid[2])),
+        "y": y,
         "folder": folder,
     }
 
