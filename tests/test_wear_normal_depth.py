@@ -99,3 +99,26 @@ def test_smooth_flank_wear_keeps_the_flange_monotone(tmp_path):
     assert float(worn_normal.slope(-0.036)) < -0.3
     expected = float(normal.sum() * STEP_M)
     assert removed_area(p0, worn_normal) == pytest.approx(expected, rel=1e-5)
+
+
+def test_flank_rise_measures_a_dip_in_the_flange(tmp_path):
+    """``profile_check``'s ``flank_rise_m``: 0 on the new S1002; a groove 0.2 mm deep and
+    0.6 mm wide (sigma 0.3 mm) worn into the flange root at s = -27 mm, where the flange falls
+    with slope 0.25, leaves a dip that the radius climbs out of again by tens of um (the
+    Gaussian's steepest slope 0.4 over the flank's 0.25)."""
+    p0 = wheel_profile("S1002")
+    assert profile_check(p0, p0)["flank_rise_m"] == 0.0
+    groove = 2e-4 * np.exp(-0.5 * ((GRID_Y_M + 0.027) / 3e-4) ** 2)
+    check = profile_check(worn_profile(p0, GRID_Y_M, groove, tmp_path / "g.txt"), p0)
+    assert not check["flange_monotone"]
+    assert 2e-5 < check["flank_rise_m"] < 6e-5
+
+
+@pytest.mark.parametrize("value", [-1e-6, 2e-3, math.nan])
+def test_flank_rise_tolerance_is_checked(tmp_path, value):
+    from railexu.errors import InputError
+    from railexu.study.wear.loop import wear_loop
+
+    with pytest.raises(InputError, match="flank_rise_tolerance|0 .. 1 mm"):
+        wear_loop("wheelset", tmp_path / "none.yaml", 1.0, tmp_path / "out",
+                  flank_rise_tolerance_m=value)  # fmt: skip

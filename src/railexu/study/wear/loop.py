@@ -111,6 +111,9 @@ class WearLoopResult:
     #: rule max_depth: the most times in a row a step is made again with half the depth because
     #: the route did not complete at its profiles
     failure_halvings: int = 0
+    #: a non-monotone worn flange stops the loop when its radius rises again by at least this
+    #: much [m] (0: any non-monotone flange)
+    flank_rise_tolerance_m: float = 0.0
 
     def column(self, key: str) -> np.ndarray:
         """``key`` of every step's row, in order (NaN where missing)."""
@@ -207,6 +210,7 @@ def wear_loop(
     log=None,
     scheduler: Any = None,
     failure_halvings: int = FAILURE_HALVINGS,
+    flank_rise_tolerance_m: float = 0.0,
 ) -> WearLoopResult:
     """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
 
@@ -238,6 +242,12 @@ def wear_loop(
             of the step just made, that step is made again with half the depth, at most this
             many times in a row (and not below ``max_depth_m / MAX_HALVINGS``); 0: the loop
             stops at the first such route.
+        flank_rise_tolerance_m: a worn flange that is not monotone stops the loop when the
+            radius rises again by at least this much between the flange tip and the tape circle
+            (:func:`~.profiles.profile_check`'s ``flank_rise_m``) [m]; 0 (default): any
+            non-monotone flange stops it. A run on past such a flange relies on the contact
+            coping with it (a route that does not complete stops the loop anyway:
+            ``failure_halvings``); docs/wear.md, "Long loops on the shipped routes".
 
     Raises:
         InputError: bad arguments or input files.
@@ -257,6 +267,9 @@ def wear_loop(
     ):
         raise InputError(f"{failure_halvings!r}: expected an integer 0 .. 6",
                          key="failure_halvings")  # fmt: skip
+    if not (math.isfinite(flank_rise_tolerance_m) and 0.0 <= flank_rise_tolerance_m <= 1e-3):
+        raise InputError(f"{flank_rise_tolerance_m!r} m: expected 0 .. 1 mm",
+                         key="flank_rise_tolerance")  # fmt: skip
     if not (0.0 <= smoothing_m <= 0.01):
         raise InputError(f"{smoothing_m!r} m: expected 0 .. 10 mm", key="smoothing")
     vehicle, vehicle_file = _vehicle_and_file(vehicle)
@@ -270,7 +283,8 @@ def wear_loop(
         ws = vehicle.wheelsets[i]
         profiles[key] = ws.wheel_profile if side == "left" else ws.profile_right
     straight = _straight_track(route, out)
-    result = WearLoopResult(out=out, failure_halvings=failure_halvings)
+    result = WearLoopResult(out=out, failure_halvings=failure_halvings,
+                            flank_rise_tolerance_m=flank_rise_tolerance_m)  # fmt: skip
     mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
     # the new profiles and the depth removed since: every worn profile is the new one minus the
@@ -393,6 +407,7 @@ def wear_loop(
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
             check = profile_check(new[key], original[key])
             row[f"{key}_flange_monotone"] = int(check["flange_monotone"])
+            row[f"{key}_flank_rise_um"] = check["flank_rise_m"] * 1e6
             row[f"{key}_max_curvature_change_1_per_m"] = check["max_curvature_change_1_per_m"]
             area = removed_area(current[key], new[key])
             expected = rates["vol"][key] * dl
@@ -409,12 +424,17 @@ def wear_loop(
             f"{max(row[f'{k}_max_depth_mm'] for k, _, _ in keys):.4f} mm")  # fmt: skip
         _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                      False, "")  # fmt: skip
-        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]]
+        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]
+                  and row[f"{k}_flank_rise_um"] >= flank_rise_tolerance_m * 1e6]  # fmt: skip
         if folded:
+            rises = ", ".join(f"{row[f'{k}_flank_rise_um']:.3g}" for k in folded)
             reason = (
                 f"at {mileage:.6g} km the worn flange of {', '.join(folded)} is no longer "
-                "monotone (the radius does not fall from the flange tip to the tape circle)"
-            )
+                "monotone (the radius does not fall from the flange tip to the tape circle: it "
+                f"rises again by {rises} um"
+                + (f", tolerance {flank_rise_tolerance_m * 1e6:g} um)" if flank_rise_tolerance_m
+                   else ")")
+            )  # fmt: skip
             log(reason)
             break
     result.complete = not reason
@@ -577,6 +597,16 @@ def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_
             f"is made again with half the depth, at most {result.failure_halvings} time(s) in a "
             "row; then the loop stops"
         ),
+        "flange_rule": (
+            "a worn flange that is not monotone (the radius does not fall from the flange tip "
+            "to the tape circle) stops the loop"
+            + (
+                f" when the radius rises again by {result.flank_rise_tolerance_m * 1e6:g} um or "
+                "more"
+                if result.flank_rise_tolerance_m
+                else ""
+            )
+        ),  # fmt: skip
         "failed_cases": list(result.failed_cases),
         "cases": [dataclasses.asdict(c) for c in route.cases],
         "pid": os.getpid(),

@@ -189,7 +189,10 @@ def profile_check(profile: Profile, reference: Profile) -> dict:
     """Checks of a worn wheel profile against its new ``reference`` (module doc).
 
     Returns ``flange_monotone`` (bool: the radius increase falls strictly from the flange tip
-    to the tape circle, sampled every 0.01 mm), ``max_curvature_change_1_per_m`` (the largest
+    to the tape circle, sampled every 0.01 mm), ``flank_rise_m`` (how far the radius rises
+    again on the way from the flange tip to the tape circle, the largest ``F(s2) - F(s1)`` with
+    ``s1 < s2`` [m]: 0 on a monotone flange, the depth of a dip or flat worn into it
+    otherwise), ``max_curvature_change_1_per_m`` (the largest
     change of the profile curve's curvature ``F'' / (1 + F'^2)^1.5`` on the tread and flange,
     ``s`` from the flange tip to +50 mm, except within :data:`JUMP_GUARD_M` of the new
     profile's curvature jumps) and where it is (``s`` [m]).
@@ -200,6 +203,7 @@ def profile_check(profile: Profile, reference: Profile) -> dict:
     tip = int(np.argmax(f))
     flank = f[tip : int(np.searchsorted(s, 0.0)) + 1]
     monotone = bool(flank.size > 1 and np.all(np.diff(flank) < 0.0))
+    rise = float(np.max(flank - np.minimum.accumulate(flank))) if flank.size else 0.0
     band = (s >= s[tip]) & (s <= 0.05)
     sb = s[band]
 
@@ -218,6 +222,7 @@ def profile_check(profile: Profile, reference: Profile) -> dict:
     i = int(np.argmax(change))
     return {
         "flange_monotone": monotone,
+        "flank_rise_m": rise,
         "max_curvature_change_1_per_m": float(change[i]),
         "max_curvature_change_at_m": float(sb[i]),
     }
