@@ -16,7 +16,7 @@ One step:
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
 3. the depth per km is smoothed (:func:`~.profiles.smooth_normal_depth`: the depth normal to
    the current profile, spread by a Gaussian along ``y`` and turned back into the height change
-   at each point's own flank angle; area kept);
+   with the flank angle averaged by the same Gaussian; area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
    wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
    per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth

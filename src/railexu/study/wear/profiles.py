@@ -5,8 +5,8 @@
   kept exactly (renormalised);
 * :func:`smooth_normal_depth`: what the loop smooths: the depth normal to the surface (the
   deposit's height change times ``cos(a)``, ``a`` the flank angle of the current profile),
-  spread along ``y`` by :func:`smooth_depth` and turned back into the height change at each
-  point's own angle; the worn area kept exactly;
+  spread along ``y`` by :func:`smooth_depth` and turned back into the height change with the
+  angle averaged by the same Gaussian; the worn area kept exactly;
 * :func:`worn_profile`: ``F_new(s) = F(s) - depth(s)`` on the profile's graph domain, written as
   a two-column text profile with its ``# railexu profile:`` declaration (railexu reads it back
   with :func:`railexu.profiles.wheel_profile`) and read back; the loop always takes the
