@@ -14,7 +14,9 @@ One step:
    each case's wear is kept in ``step_NNN/cases/<case>.npz``, and a stopped loop resumes from
    the studies and these files;
 2. the route's depth per km of each wheel is the share-weighted sum over the cases;
-3. the depth per km is smoothed (:func:`~.profiles.smooth_depth`, a Gaussian, area kept);
+3. the depth per km is smoothed (:func:`~.profiles.smooth_normal_depth`: the depth normal to
+   the current profile, spread by a Gaussian along ``y`` and turned back into the height change
+   with the flank angle averaged by the same Gaussian; area kept);
 4. the mileage step: rule ``max_depth`` (default): the largest smoothed depth taken off any
    wheel in the step is ``max_depth_m`` (0.1 mm by default), ``dL = max_depth_m / max(depth
    per km)``; rule ``fixed``: ``dL = step_km``; both end at the requested mileage; the depth
@@ -62,8 +64,9 @@ from railexu.simulation.simulate import wheelset_order
 from railexu.study.wear.profiles import (
     flange_measures,
     profile_check,
+    profile_slope,
     removed_area,
-    smooth_depth,
+    smooth_normal_depth,
     worn_profile,
 )
 from railexu.study.wear.route import Route, RouteCase, load_route
@@ -108,6 +111,9 @@ class WearLoopResult:
     #: rule max_depth: the most times in a row a step is made again with half the depth because
     #: the route did not complete at its profiles
     failure_halvings: int = 0
+    #: a non-monotone worn flange stops the loop when its radius rises again by at least this
+    #: much [m] (0: any non-monotone flange)
+    flank_rise_tolerance_m: float = 0.0
 
     def column(self, key: str) -> np.ndarray:
         """``key`` of every step's row, in order (NaN where missing)."""
@@ -204,6 +210,7 @@ def wear_loop(
     log=None,
     scheduler: Any = None,
     failure_halvings: int = FAILURE_HALVINGS,
+    flank_rise_tolerance_m: float = 0.0,
 ) -> WearLoopResult:
     """Wear the vehicle's wheels over ``mileage_km`` of the route (module doc).
 
@@ -235,6 +242,12 @@ def wear_loop(
             of the step just made, that step is made again with half the depth, at most this
             many times in a row (and not below ``max_depth_m / MAX_HALVINGS``); 0: the loop
             stops at the first such route.
+        flank_rise_tolerance_m: a worn flange that is not monotone stops the loop when the
+            radius rises again by at least this much between the flange tip and the tape circle
+            (:func:`~.profiles.profile_check`'s ``flank_rise_m``) [m]; 0 (default): any
+            non-monotone flange stops it. A run on past such a flange relies on the contact
+            coping with it (a route that does not complete stops the loop anyway:
+            ``failure_halvings``); docs/wear.md, "Long loops on the shipped routes".
 
     Raises:
         InputError: bad arguments or input files.
@@ -254,6 +267,9 @@ def wear_loop(
     ):
         raise InputError(f"{failure_halvings!r}: expected an integer 0 .. 6",
                          key="failure_halvings")  # fmt: skip
+    if not (math.isfinite(flank_rise_tolerance_m) and 0.0 <= flank_rise_tolerance_m <= 1e-3):
+        raise InputError(f"{flank_rise_tolerance_m!r} m: expected 0 .. 1 mm",
+                         key="flank_rise_tolerance")  # fmt: skip
     if not (0.0 <= smoothing_m <= 0.01):
         raise InputError(f"{smoothing_m!r} m: expected 0 .. 10 mm", key="smoothing")
     vehicle, vehicle_file = _vehicle_and_file(vehicle)
@@ -267,7 +283,8 @@ def wear_loop(
         ws = vehicle.wheelsets[i]
         profiles[key] = ws.wheel_profile if side == "left" else ws.profile_right
     straight = _straight_track(route, out)
-    result = WearLoopResult(out=out, failure_halvings=failure_halvings)
+    result = WearLoopResult(out=out, failure_halvings=failure_halvings,
+                            flank_rise_tolerance_m=flank_rise_tolerance_m)  # fmt: skip
     mileage, step, rejected = 0.0, 0, 0
     current = {key: wheel_profile(profiles[key]) for key, _, _ in keys}
     # the new profiles and the depth removed since: every worn profile is the new one minus the
@@ -301,7 +318,7 @@ def wear_loop(
             rates = _route_rates(vehicle, vehicle_file, profiles, route,
                                  out / f"step_{step:03d}", law, workers, scheduler,
                                  initial_lateral_m, keys, smoothing_m, log,
-                                 attempts.get(step, 0))  # fmt: skip
+                                 attempts.get(step, 0), current)  # fmt: skip
         except KeyboardInterrupt:  # Ctrl-C, SIGTERM: the finished cases and steps are kept
             result.reason = (f"interrupted at {mileage:.6g} km (profiles of step {step}); run "
                              "the same loop again to resume")  # fmt: skip
@@ -390,6 +407,7 @@ def wear_loop(
                                     f"{key} after {mileage + dl:.6g} km ({law})")  # fmt: skip
             check = profile_check(new[key], original[key])
             row[f"{key}_flange_monotone"] = int(check["flange_monotone"])
+            row[f"{key}_flank_rise_um"] = check["flank_rise_m"] * 1e6
             row[f"{key}_max_curvature_change_1_per_m"] = check["max_curvature_change_1_per_m"]
             area = removed_area(current[key], new[key])
             expected = rates["vol"][key] * dl
@@ -406,12 +424,17 @@ def wear_loop(
             f"{max(row[f'{k}_max_depth_mm'] for k, _, _ in keys):.4f} mm")  # fmt: skip
         _write_state(out, result, route, law, step_rule, max_depth_m, step_km, smoothing_m,
                      False, "")  # fmt: skip
-        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]]
+        folded = [k for k, _, _ in keys if not row[f"{k}_flange_monotone"]
+                  and row[f"{k}_flank_rise_um"] >= flank_rise_tolerance_m * 1e6]  # fmt: skip
         if folded:
+            rises = ", ".join(f"{row[f'{k}_flank_rise_um']:.3g}" for k in folded)
             reason = (
                 f"at {mileage:.6g} km the worn flange of {', '.join(folded)} is no longer "
-                "monotone (the radius does not fall from the flange tip to the tape circle)"
-            )
+                "monotone (the radius does not fall from the flange tip to the tape circle: it "
+                f"rises again by {rises} um"
+                + (f", tolerance {flank_rise_tolerance_m * 1e6:g} um)" if flank_rise_tolerance_m
+                   else ")")
+            )  # fmt: skip
             log(reason)
             break
     result.complete = not reason
@@ -460,8 +483,10 @@ def _made_again(out: Path, step: int, attempts: dict, notes: dict, why: str,
 
 
 def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers, scheduler,
-                 initial_lateral_m, keys, smoothing_m, log, attempt=0) -> dict:  # fmt: skip
-    """The route's smoothed depth per km of every wheel (share-weighted over the cases), its
+                 initial_lateral_m, keys, smoothing_m, log, attempt=0,
+                 current=None) -> dict:  # fmt: skip
+    """The route's smoothed depth per km of every wheel (share-weighted over the cases; smoothed
+    as the depth normal to ``current[key]``, the profiles the route ran with), its
     volume rate per km, the largest depth per km and the cases that did not complete;
     ``folder``: the study folder of the route's run (``step_NNN/route_again1``)."""
     veh = _with_profiles(vehicle, profiles)
@@ -483,7 +508,11 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
              for k, _, _ in keys}  # fmt: skip
     vol = {k: sum(c.share * float(r[f"{k}_volume_rate_per_km_m2"]) for c, r in cases.items())
            for k, _, _ in keys}  # fmt: skip
-    smooth = {k: smooth_depth(d, grid[1], smoothing_m) for k, d in depth.items()}
+    y = grid[0] + grid[1] * np.arange(int(grid[2]))
+    if current is None:
+        current = {k: wheel_profile(profiles[k]) for k, _, _ in keys}
+    smooth = {k: smooth_normal_depth(d, grid[1], smoothing_m, profile_slope(current[k], y))
+              for k, d in depth.items()}  # fmt: skip
     return {
         "rcf": _route_rcf(cases, keys),
         "smooth": smooth,
@@ -492,7 +521,7 @@ def _route_rates(vehicle, vehicle_file, profiles, route, step_dir, law, workers,
         "bad": bad,
         "again": again,
         "min_time_step_s": min(steps) if steps else math.nan,
-        "y": grid[0] + grid[1] * np.arange(int(grid[2])),
+        "y": y,
         "folder": folder,
     }
 
@@ -568,6 +597,16 @@ def _write_state(out, result, route, law, rule, max_depth_m, step_km, smoothing_
             f"is made again with half the depth, at most {result.failure_halvings} time(s) in a "
             "row; then the loop stops"
         ),
+        "flange_rule": (
+            "a worn flange that is not monotone (the radius does not fall from the flange tip "
+            "to the tape circle) stops the loop"
+            + (
+                f" when the radius rises again by {result.flank_rise_tolerance_m * 1e6:g} um or "
+                "more"
+                if result.flank_rise_tolerance_m
+                else ""
+            )
+        ),  # fmt: skip
         "failed_cases": list(result.failed_cases),
         "cases": [dataclasses.asdict(c) for c in route.cases],
         "pid": os.getpid(),
