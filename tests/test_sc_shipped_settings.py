@@ -14,6 +14,8 @@ is built.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from railexu.inputs import load_yaml
@@ -32,7 +34,7 @@ CROSSINGS = ["uk_crossing_facing", "uk_crossing_trailing"]
 
 def test_the_file_defaults_are_the_documented_ones():
     assert FILE_CONTACT_FILTER_M == 0.012  # the Hertz patch's box: L^2 / 12 = a^2 / 5, a 7.7 mm
-    assert FILE_CROSSING_STATION_STEP_M == 0.010  # finer than the filter: converged
+    assert FILE_CROSSING_STATION_STEP_M == 0.010  # finer than the filter (docs: where converged)
     assert DEFAULT_CONTACT_FILTER_M == 0.0  # a zone built in code states its filter
 
 
@@ -60,7 +62,7 @@ def _without(name: str, section: str, keys: tuple[str, ...]):
     return track_from_dict(data, str(path), lines, path.parent).variable_rails
 
 
-def test_a_turnout_with_and_without_the_keys_gets_the_converged_setting():
+def test_a_turnout_with_and_without_the_keys_gets_the_shipped_setting():
     shipped = load_track(TURNOUTS[2]).variable_rails  # diverging facing: the station study's
     assert shipped.contact_filter_m == pytest.approx(0.012)
     assert shipped.station_step_m == pytest.approx(0.05)  # the switch panel, the plain rail
@@ -75,3 +77,11 @@ def test_a_turnout_with_and_without_the_keys_gets_the_converged_setting():
 def test_a_zone_without_the_key_gets_the_filter():
     zone = _without(CROSSINGS[0], "variable_rails", ("contact_filter",))
     assert zone.contact_filter_m == FILE_CONTACT_FILTER_M
+
+
+def test_the_docs_state_the_shipped_setting():
+    """The runs table's text names the stations and the filter the shipped tracks carry."""
+    docs = Path(__file__).resolve().parents[1] / "docs" / "switches-and-crossings.md"
+    text = " ".join(docs.read_text().split())
+    assert "**10 mm over the crossing panel, with the 12 mm contact filter**" in text
+    assert "a track file's zone and a turnout: 12 mm unless set" in text
