@@ -9,7 +9,8 @@ kernels loaded before either is timed: a warm-up run of 1 m first).
 
 Run: ``python benchmarks/turnout.py [vehicle] [route] [direction] [--speed 10] [--step-m 0.05]
 [--crossing-step-m 0.01]`` (defaults: hbbins_loaded, diverging, facing, 10 m/s, the track
-file's stations: the design's 50 mm, 20 mm over the crossing panel; ``--crossing-step-m``:
+file's stations: the design's 50 mm, 10 mm over the crossing panel, the 12 mm contact filter;
+``--crossing-step-m``:
 another for the crossing panel, ``turnout.crossing_station_step``). The run starts 12 m before
 the first panel (the longest wagon's wheelbase) and ends 3 m beyond the last rail of the
 turnout; ``--panels switch`` or ``crossing`` times a shorter zone. Timings vary by tens of

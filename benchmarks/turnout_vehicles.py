@@ -6,8 +6,9 @@ Run: ``python benchmarks/turnout_vehicles.py [--panels both] [--step-m 0.05] [--
 [--crossing-step-m 0.01] [--vehicles a,b] [--routes through_facing,diverging_trailing]
 [--save DIR]`` (defaults: every vehicle in ``vehicles/``, the four tracks, the whole turnout
 (switch panel, whole crossing, check rail) at the track files' stations: the design's 50 mm,
-20 mm over the crossing panel (``turnout.crossing_station_step``; printed per route; another
-with ``--crossing-step-m``), a 0.4 ms step with every step recorded: the default
+10 mm over the crossing panel with the 12 mm contact filter (``turnout.crossing_station_step``,
+``turnout.contact_filter``; printed per route; others with ``--crossing-step-m``,
+``--contact-filter-m``), a 0.4 ms step with every step recorded: the default
 2 ms moves a wheel 20 mm per step at 10 m/s, longer than a crossing's impact,
 docs/switches-and-crossings.md). Each run starts on straight track 3 m plus the wheelbase
 before the first rail of the turnout met and ends 3 m beyond its last, at 10 m/s, centred.

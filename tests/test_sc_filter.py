@@ -243,6 +243,8 @@ def test_turnout_key_sets_the_filter_and_refuses_a_bad_length():
 
     track = load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=12 mm"])
     assert track.variable_rails.contact_filter_m == pytest.approx(0.012)
-    assert load_track("turnout_uk_r245_diverging_facing").variable_rails.contact_filter_m == 0.0
+    assert load_track("turnout_uk_r245_diverging_facing").variable_rails.contact_filter_m == 0.012
+    off = load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=0 mm"])
+    assert off.variable_rails.contact_filter_m == 0.0
     with pytest.raises(InputError, match="contact_filter"):
         load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=-1 mm"])

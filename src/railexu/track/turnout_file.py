@@ -28,7 +28,11 @@ from railexu.profiles.variable.switch_panel import (
 from railexu.profiles.variable.zoned import Panel, ZonedProfile
 from railexu.track.turnout import RouteLayout, TurnoutGeometry, parse_crossing_rate, route_layout
 from railexu.track.turnout_schema import DESIGN, TURNOUT
-from railexu.track.variable_rails import VariableRails
+from railexu.track.variable_rails import (
+    FILE_CONTACT_FILTER_M,
+    FILE_CROSSING_STATION_STEP_M,
+    VariableRails,
+)
 from railexu.track.variable_rails_file import reversed_slices
 
 #: Lateral spacing of the plain rail's points given to the slices [m].
@@ -123,12 +127,14 @@ def turnout_from_dict(
     pair = _placed_rail(rail, inclination, gauge_m, sec)
     side, start, spans = _zoned_profiles(design, t, layout, crossing, pair, geometry, sec)
     step = t["station_step"] if t["station_step"] is not None else design["station_step"]
+    if t["crossing_station_step"] is None:  # fine enough for the contact filter
+        t = {**t, "crossing_station_step": min(FILE_CROSSING_STATION_STEP_M, step)}
     rails = VariableRails(
         left=side.get("left"), right=side.get("right"), start_m=start,
         station_step_m=step,
         x_max_m=design["effective_length"],
         station_steps_m=panel_station_steps(spans, t, step),
-        **({} if t["contact_filter"] is None else {"contact_filter_m": t["contact_filter"]}),
+        contact_filter_m=_or(t["contact_filter"], FILE_CONTACT_FILTER_M),
     )  # fmt: skip
     too_many = rails.too_many_stations()
     if too_many:
@@ -219,3 +225,8 @@ def _placed_rail(rail: str, inclination, gauge_m: float, sec: Section):
 
 
 __all__ = ["crossing_slices", "read_design", "turnout_from_dict"]
+
+
+def _or(value: float | None, default: float) -> float:
+    """``value`` if the file gives it, else ``default``."""
+    return default if value is None else value

@@ -27,12 +27,25 @@ from railexu.profiles.variable import VariableProfile
 #: of ``a + k step`` against a part's end; 1 % of the smallest step accepted (0.1 mm).
 SAME_STATION_M = 1.0e-6
 #: Most stations of one zone (railexu's bound): a station's effective-section table takes about
-#: 0.7 MB per side (the shipped crossing: 417 MB for 285 stations and two sides), so 5000
+#: 0.7 MB per side (the shipped crossing: 833 MB for 569 stations of 10 mm and two sides), so 5000
 #: stations stay within about 7 GB; the shipped turnout with 10 mm crossing stations has 1046.
 MAX_STATIONS = 5000
 
-#: The contact filter's length along the track [m] (:mod:`railexu.model.sc_filter`).
+#: The contact filter's length along the track [m] of a zone built from Python
+#: (:mod:`railexu.model.sc_filter`): 0, not filtered; a zone built in code states its filter.
 DEFAULT_CONTACT_FILTER_M = 0.0
+#: The contact filter's length [m] of a track file's zone (``variable_rails:``) and of a
+#: turnout (``turnout:``) unless the file sets ``contact_filter``: railexu's assumption, a box
+#: with the second moment of a Hertz patch's load along the track, ``L^2 / 12 = a^2 / 5``,
+#: ``a = 7.7 mm`` (the loaded wagon's wheel, 130 kN on a 0.46 m wheel and a 0.3 m crown):
+#: with stations of 10 mm or less the crossing's peaks converge with the station step
+#: (docs/switches-and-crossings.md, the turnout's "Cost").
+FILE_CONTACT_FILTER_M = 0.012
+#: A turnout's stations over its crossing panel [m] unless the file sets
+#: ``crossing_station_step`` (or a finer ``station_step``): fine enough for
+#: :data:`FILE_CONTACT_FILTER_M` (20 mm stations with a 12 mm filter do not converge,
+#: 10 mm are within 1.3 % of 2.5 mm; docs/switches-and-crossings.md, the turnout's "Cost").
+FILE_CROSSING_STATION_STEP_M = 0.010
 
 
 @dataclass(frozen=True, eq=False)

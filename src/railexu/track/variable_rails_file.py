@@ -18,7 +18,7 @@ from pathlib import Path
 from railexu.inputs import Section, resolve_file
 from railexu.profiles.core import ProfileError
 from railexu.profiles.variable import ProfileSlices, VariableProfile, read_slcs, read_yaml_slices
-from railexu.track.variable_rails import VariableRails
+from railexu.track.variable_rails import FILE_CONTACT_FILTER_M, VariableRails
 from railexu.track.variable_rails_schema import (
     MAX_STATION_STEP_M,
     MAX_ZONE_LENGTH_M,
@@ -71,7 +71,7 @@ def variable_rails_from_dict(
         left=sides[0], right=sides[1], start_m=p["start"], station_step_m=p["station_step"],
         rail_origin_m=None if origin is None else (origin[0], origin[1]),
         x_max_m=p["effective_length"],
-        **({} if p["contact_filter"] is None else {"contact_filter_m": p["contact_filter"]}),
+        contact_filter_m=_or(p["contact_filter"], FILE_CONTACT_FILTER_M),
     )  # fmt: skip
     _check_zone(sec, rails, track_start_m, track_end_m)
     if sec.has("station_steps"):
@@ -184,3 +184,8 @@ def _check_zone(sec: Section, rails: VariableRails, start_m: float, end_m: float
 
 
 __all__ = ["reversed_slices", "station_step_parts", "variable_rails_from_dict"]
+
+
+def _or(value: float | None, default: float) -> float:
+    """``value`` if the file gives it, else ``default``."""
+    return default if value is None else value
