@@ -13,28 +13,14 @@ tread, so the wheel loads agree within 5 N of 100 kN (Hertz stiffness ~1.5e9 N/m
 
 from __future__ import annotations
 
-from dataclasses import replace
-from pathlib import Path
-
 import numpy as np
-from uniform_zone import uniform_zone
+from uniform_zone import plain_and_zoned_timeseries
 
-from railexu.results.run import RunSettings, run
 from railexu.track.track import ideal_straight_track
-from railexu.vehicle.vehicle import load_vehicle
-
-VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 
 
 def test_uniform_zone_runs_as_plain_track():
-    vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
-    plain = ideal_straight_track()
-    zone = uniform_zone(plain)
-    settings = RunSettings(speed_m_per_s=5.0, distance_m=8.0, initial_lateral_m=0.002)
-    a = run(vehicle, plain, settings)
-    b = run(vehicle, replace(plain, variable_rails=zone), settings)
-    assert a.status["state"] == b.status["state"] == "completed"
-    ta, tb = a.timeseries, b.timeseries
+    ta, tb = plain_and_zoned_timeseries(ideal_straight_track())
     for column, tol in (("ws1_left_Q_N", 5.0), ("ws1_right_Q_N", 5.0), ("ws1_left_Y_N", 5.0),
                         ("ws1_right_Y_N", 5.0), ("ws1_lateral_m", 5e-8)):  # fmt: skip
         diff = np.max(np.abs(np.asarray(ta[column]) - np.asarray(tb[column])))

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from wear_checks import assert_steps_conserve_volume
 
 from railexu.errors import InputError
 from railexu.profiles import wheel_profile
@@ -121,12 +122,7 @@ def test_loop_conserves_the_worn_volume(loop_result):
     """Every step, every wheel: the area between the old and the new profile equals the
     integral of the patches' volume rates over the step's mileage within 1 % (the issue's
     check; the smoothing keeps the area exactly, the re-splined points change it by ~1e-4)."""
-    steps = loop_result.steps[1:]
-    assert steps
-    for row in steps:
-        for key in ("ws1_left", "ws1_right"):
-            assert row[f"{key}_area_mm2"] > 0.0
-            assert abs(row[f"{key}_conservation_error"]) < 0.01
+    assert_steps_conserve_volume(loop_result.steps[1:])
 
 
 def test_both_directions_wear_both_wheels_equally(loop_result):

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from wear_checks import assert_steps_conserve_volume
 
 from railexu.errors import InputError
 from railexu.study.wear.route import RouteWarning, load_route
@@ -207,12 +208,7 @@ def test_irregular_mirrored_case_is_the_mirror_of_the_real_reverse_run(tmp_path)
             assert float(rev[f"ws1_{side}_volume_rate_per_km_m2"]) == pytest.approx(va, rel=1e-5)
             c = fwd[f"ws1_{side}_depth_per_km_m"]
             assert np.abs(c - a).max() > 0.1 * a.max()
-    steps = result.steps[1:]
-    assert steps
-    for row in steps:
-        for key in ("ws1_left", "ws1_right"):
-            assert row[f"{key}_area_mm2"] > 0.0
-            assert abs(row[f"{key}_conservation_error"]) < 0.01
+    assert_steps_conserve_volume(result.steps[1:])
     track = yaml.safe_load((both / "out" / "step_000" / "route" / "track.yaml").read_text())
     assert track["irregularities"]["spectrum"] == "german_low"
 

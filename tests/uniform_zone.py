@@ -4,12 +4,19 @@ tests/test_sc_elastic.py on elastic track)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+from pathlib import Path
+
 import numpy as np
 
 from railexu.profiles import rail_profile
 from railexu.profiles.variable import VariableProfile
 from railexu.profiles.variable.slices import ProfileSlices
+from railexu.results.run import RunSettings, run
 from railexu.track.variable_rails import VariableRails
+from railexu.vehicle.vehicle import load_vehicle
+
+VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 
 
 def uniform_zone(track, start_m: float = 5.0, station_step_m: float = 0.25) -> VariableRails:
@@ -25,3 +32,14 @@ def uniform_zone(track, start_m: float = 5.0, station_step_m: float = 0.25) -> V
     )  # fmt: skip
     return VariableRails(left=profile, right=profile, start_m=start_m,
                          station_step_m=station_step_m)  # fmt: skip
+
+
+def plain_and_zoned_timeseries(plain):
+    """The wheelset, 8 m at 5 m/s from a 2 mm offset, on the track ``plain`` and on the same
+    track with :func:`uniform_zone`: both runs completed, their time series ``(plain, zoned)``."""
+    vehicle = load_vehicle(VEHICLES / "wheelset.yaml")
+    settings = RunSettings(speed_m_per_s=5.0, distance_m=8.0, initial_lateral_m=0.002)
+    a = run(vehicle, plain, settings)
+    b = run(vehicle, replace(plain, variable_rails=uniform_zone(plain)), settings)
+    assert a.status["state"] == b.status["state"] == "completed"
+    return a.timeseries, b.timeseries
