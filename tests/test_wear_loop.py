@@ -167,6 +167,10 @@ def test_cli_wear(tmp_path, capsys):
     assert main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out)]
                 + bad_halvings) == 2  # fmt: skip
     assert "failure_halvings" in capsys.readouterr().err
+    bad_rule = ["--flank-rise-tolerance", "2 mm", "--workers", "0"]
+    assert main(["wear", "wheelset", str(route), "--mileage", "1 km", "--out", str(out)]
+                + bad_rule) == 2  # fmt: skip
+    assert "expected 0 .. 1 mm" in capsys.readouterr().err
 
 
 def test_step_size_study(tmp_path):

@@ -54,6 +54,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                    "diverged even at 0.25 ms), make that step again with half the depth at "
                    "most this many times in a row, then stop (default 2; 0: stop at "
                    "once)")  # fmt: skip
+    p.add_argument("--flank-rise-tolerance", type=quantity("m"), default=0.0,
+                   help="the flange rule: stop when a worn flange's radius rises again "
+                   "towards its root by at least this much, e.g. '5 um' (default 0: any rise; "
+                   "0 .. 1 mm; docs/wear.md)")  # fmt: skip
     p.add_argument("--no-plots", action="store_true", help="do not draw the figures")
     p.set_defaults(func=command)
     return p
@@ -81,7 +85,7 @@ def command(args: argparse.Namespace) -> int:
         step_rule="fixed" if args.step else "max_depth", max_depth_m=args.max_depth,
         step_km=args.step / 1000.0 if args.step else None, smoothing_m=args.smoothing,
         workers=args.workers, max_steps=args.max_steps, scheduler=args.scheduler,
-        failure_halvings=args.failure_halvings,
+        failure_halvings=args.failure_halvings, flank_rise_tolerance_m=args.flank_rise_tolerance,
         log=lambda line: print(line, file=sys.stderr, flush=True),
     )  # fmt: skip
     if not args.no_plots:
