@@ -66,12 +66,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from railexu.contact.creep import creep_forces
+from railexu.contact.halfspace_tangential import solve_tangential
 from railexu.contact.kalker import kalker_coefficients
 from railexu.contact.parameters import CREEP_MODELS
 from railexu.errors import InputError, did_you_mean
 
 #: The tangential solutions by name: the patch's own grid, or a creep law on its ellipse.
-TANGENTIAL_MODELS: tuple[str, ...] = ("fastsim_grid", *CREEP_MODELS)
+TANGENTIAL_MODELS: tuple[str, ...] = ("fastsim_grid", "exact", *CREEP_MODELS)
 
 
 @dataclass(frozen=True)
@@ -285,6 +286,12 @@ def tangential_forces(
     normal = float(pressure_pa.sum()) * dx * ds
     if normal <= 0.0:
         return 0.0, 0.0
+    if motion.tangential == "exact":
+        qx, qs = solve_tangential(
+            pressure_pa, x_m, s_m, creep.xi, creep.eta, creep.phi_per_m, motion.friction,
+            shear_modulus_pa, poisson,
+        )  # fmt: skip
+        return float(qx.sum()) * dx * ds, float(qs.sum()) * dx * ds
     a, b, _ = equivalent_ellipse(pressure_pa, dx, ds)
     c11, c22, c23 = kalker_coefficients(a / b, poisson)
     g = shear_modulus_pa
