@@ -55,7 +55,7 @@ phi`` (Kalker 1990), by the law named in ``tangential``:
   reference solves. Against CONTACT's ``examples_s+c`` cases within 5 % of mu N where the
   normal forces agree (the stock rail's FX 6.6 %), where ``fastsim_grid`` is within 10 %
   but for the wing rail's skewed patch on the whole crossing (16.4 %). Not the default: it is
-  not better on every component (up to 2.1 % of mu N further on 4 of 16) and costs 0.5-5
+  not better on every component (0.1-2.1 % of mu N further on 5 of 14) and costs 0.5-5
   times FASTSIM on the 0.2 x 0.2 mm grid, 7-170 times on CONTACT's 0.2 x 0.05 mm.
 - any creep law of :data:`railexu.contact.parameters.CREEP_MODELS` (``"polach"``,
   ``"fastsim"``, ...): that law on the equivalent ellipse with the normal force ``N``
