@@ -32,6 +32,7 @@ from railexu.contact.halfspace import solve_normal
 from railexu.contact.halfspace_tangential import influence_coefficients, solve_tangential
 from railexu.contact.kalker import kalker_coefficients
 from railexu.contact.variable_creep import PatchCreepage, WheelMotion, tangential_forces
+from railexu.errors import ComputationError
 
 G, NU, MU = 82e9, 0.28, 0.3
 
@@ -130,3 +131,10 @@ def test_influence_coefficients_are_cerrutis():
     assert ass[40, 32] == pytest.approx(c * ((1 - NU) / r + NU * s * s / r**3), rel=1e-3)
     assert axs[40, 32] == pytest.approx(c * NU * x * s / r**3, rel=1e-3)
     assert axs[20, 20] == 0.0
+
+
+def test_no_convergence_is_reported():
+    """A sweep limit too small to converge raises a ComputationError naming the patch."""
+    p, x, _, _ = _hertz(16)
+    with pytest.raises(ComputationError, match="no convergence in 2 sweeps"):
+        solve_tangential(p, x, x, 1e-6, 0.0, 0.0, MU, G, NU, max_sweeps=2)
