@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 
+import halfspace as reference_halfspace
 import numpy as np
 import pytest
 
@@ -121,7 +122,8 @@ def test_carters_two_dimensional_solution():
 def test_influence_coefficients_are_cerrutis():
     """Far from the loaded element the coefficients are Cerruti's point load (two bodies):
     ``u_x = (1 / (pi G)) ((1 - nu) / r + nu x^2 / r^3)``, ``u_s = nu x s / (pi G r^3)``, within
-    1e-3 at 20 elements (the element's second moment, (h / r)^2 / 24)."""
+    1e-3 at 20 elements (the element's second moment, (h / r)^2 / 24); ``Axx`` and ``Ass``
+    equal the tests' own independent integral (tests/halfspace.py) on a 1:2 grid to 1e-12."""
     h = 1e-4
     axx, ass, axs = influence_coefficients(20, 20, h, h, G, NU)
     x, s = 20 * h, 12 * h
@@ -131,6 +133,15 @@ def test_influence_coefficients_are_cerrutis():
     assert ass[40, 32] == pytest.approx(c * ((1 - NU) / r + NU * s * s / r**3), rel=1e-3)
     assert axs[40, 32] == pytest.approx(c * NU * x * s / r**3, rel=1e-3)
     assert axs[20, 20] == 0.0
+    # the tests' own independent reference (tests/halfspace.py) on every offset, the loaded
+    # element itself included, and with x and s swapped for Ass
+    off = np.arange(-20, 21) * h
+    X, S = np.meshgrid(off, off, indexing="ij")
+    axx2, ass2, _ = influence_coefficients(20, 20, h, 2 * h, G, NU)
+    assert np.allclose(axx2, reference_halfspace.tangential_rectangle_integral(
+        X, 2 * S, h, 2 * h, NU) / (np.pi * G), rtol=1e-12, atol=0.0)  # fmt: skip
+    assert np.allclose(ass2, reference_halfspace.tangential_rectangle_integral(
+        2 * S, X, 2 * h, h, NU) / (np.pi * G), rtol=1e-12, atol=0.0)  # fmt: skip
 
 
 def test_no_convergence_is_reported():
