@@ -149,3 +149,19 @@ def test_no_convergence_is_reported():
     p, x, _, _ = _hertz(16)
     with pytest.raises(ComputationError, match="no convergence in 2 sweeps"):
         solve_tangential(p, x, x, 1e-6, 0.0, 0.0, MU, G, NU, max_sweeps=2)
+
+
+def test_adhesion_equals_the_direct_solution():
+    """Full adhesion (mu = 1e6) on the 16-element Hertz circle: the Gauss-Seidel solution's
+    force equals the dense direct solve of the same steady rolling equations in the tests' own
+    reference (tests/halfspace.py: longitudinal tractions only, its sign convention opposite)
+    within 1e-4 for nu = 0, where the lateral coupling vanishes (measured 3e-6: the solver's
+    tolerance), and within 1e-3 for nu = 0.28 (measured 3e-4: the coupling the reference
+    leaves out)."""
+    p, x, _, h = _hertz(16)
+    ii, jj = np.nonzero(p > 0.0)
+    creep = np.full((ii.size, 1), 1e-6)
+    for nu, rel in ((0.0, 1e-4), (NU, 1e-3)):
+        direct = reference_halfspace.linear_theory_forces(x[ii], x[jj], h, h, creep, G, nu)[0]
+        qx, _ = solve_tangential(p, x, x, 1e-6, 0.0, 0.0, 1e6, G, nu)
+        assert float(qx.sum()) * h * h == pytest.approx(-direct, rel=rel)
