@@ -41,7 +41,7 @@ does not converge): adhesion ``q = q_old - S / L``; sliding
 magnitude ``mu p`` against the slip the element would have with the coefficient ``L``; at
 convergence ``q`` no longer changes, so ``S`` is the true slip and Coulomb's law holds. Sweeps
 stop when no traction changed by more than ``tol`` times the largest traction (default
-1e-4: on the S&C patches the forces are then within 0.02 % of mu N of the 1e-6 solution);
+1e-4: on the S&C patches the forces are then within 0.003 % of mu N of the 1e-6 solution);
 a :class:`railexu.errors.ComputationError` names the patch's size and the last change if
 ``max_sweeps`` is reached with every coefficient. Convergence is shown by the tests
 (Carter's 2-D solution, Kalker's linear coefficients, full sliding, CONTACT's S&C cases), not
