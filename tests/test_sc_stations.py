@@ -44,7 +44,8 @@ TURNOUT = "turnout_uk_r245_diverging_facing"
 
 
 class _Stations(NamedTuple):
-    """What :func:`forces._station_interval` and :func:`forces._blend_station` read."""
+    """What :func:`forces._station_interval` and :func:`forces._blend_station` read (and the
+    tables' grid, ``sc_info``)."""
 
     sc_start: float
     sc_step: float
@@ -56,6 +57,7 @@ class _Stations(NamedTuple):
     sc_cache: np.ndarray
     sc_key: np.ndarray
     sc_t: np.ndarray
+    sc_info: np.ndarray
 
 
 #: The force function's station search and blend compiled here with its flags but without
@@ -240,7 +242,8 @@ def test_bounds_from_the_station_row_give_the_copied_tables_contact(switch_zone)
         (p_new, f_new), (p_old, f_old) = out
         assert np.array_equal(p_new, p_old, equal_nan=True) and np.array_equal(f_new, f_old)
         loaded_points.append(int((p_new[..., K.PF_N] > 0.0).sum(axis=1).max()))
-    assert max(loaded_points) >= 2 and min(loaded_points) >= 1, loaded_points
+    # the poses load one rail and two (some none: the blade lower than the plain rail)
+    assert max(loaded_points) >= 2 and sum(n >= 1 for n in loaded_points) >= 40, loaded_points
 
 
 @pytest.mark.parametrize(
