@@ -4,13 +4,16 @@ Three measurements:
 
 1. **Per call, the station-table blend** inside an S&C zone (model/forces.py; processor
    time): before (main up to d0e3487: every force evaluation blended all 28 columns of both
-   stations' tables, per side with a variable profile) against now (each wheelset keeps its
-   blended table: the bound columns, pair envelopes of two stations, are copied when the
-   wheelset passes a station, the four base columns re-blended from their own contiguous copy
+   stations' tables, per side with a variable profile), then (up to 05bea86: each wheelset
+   kept its blended table, the bound columns, pair envelopes of two stations, copied when the
+   wheelset passed a station, the four base columns re-blended from their own contiguous copy
    only when its track position changed, nothing when it did not: the solver's Newton
-   iterations and its Jacobian's columns at one position). Timed on the
+   iterations and its Jacobian's columns at one position) against now (the same without the
+   bound columns' copy: the kernel reads them from the station's own row). Timed on the
    shipped crossing's tables of the left side (wing rail and nose) and of the right side (check
-   rail), per call.
+   rail), per call; a new station "hot" alternates two stations (their rows stay in the
+   processor's caches), "cold" walks through every station of the store in turn (each row read
+   from memory, as a run does: a ~1 GB store, 32 MB of L3 cache).
 2. **Per call, the contact kernel** on plain rail and on the crossing's effective section with
    the wheel on nose and wing rail (``benchmarks/sc_contact.py``'s kernel_costs measures the
    same on CONTACT's short crossing).
@@ -19,12 +22,14 @@ Three measurements:
    the same distance of straight plain track, wall times of building the model (the zone's
    station tables) and of integrating, and their ratio.
 
-Run: ``python benchmarks/sc_crossing_run.py`` (2 cores shared: timings vary by tens of percent
-between runs; interleave and repeat before concluding).
+Run: ``python benchmarks/sc_crossing_run.py [--blend-only]`` (2 cores shared: timings vary
+by tens of percent between runs; interleave and repeat before concluding; ``--blend-only``:
+the first measurement alone).
 """
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import replace
 
@@ -50,9 +55,10 @@ def _old_blend(tab, i, t, j, out):
 
 
 @numba.njit(cache=True)
-def _new_blend(tab, base, cache, key, tcache, i, t, j):
-    """model/forces.py's ``_blend_station`` on plain arrays (same loops; the base columns read
-    from their own contiguous copy ``base``, as ``KernelData.sc_base``)."""
+def _copy_blend(tab, base, cache, key, tcache, i, t, j):
+    """model/forces.py's ``_blend_station`` up to 05bea86 on plain arrays (same loops; the base
+    columns read from their own contiguous copy ``base``, as ``KernelData.sc_base``; the bound
+    columns copied at a new station)."""
     out = cache[j]
     a = tab[i, j]
     if key[j] != i:
@@ -71,6 +77,21 @@ def _new_blend(tab, base, cache, key, tcache, i, t, j):
 
 
 @numba.njit(cache=True)
+def _base_blend(tab, base, cache, key, tcache, i, t, j):
+    """model/forces.py's ``_blend_station`` now on plain arrays: the four base columns only,
+    when ``i`` or ``t`` changed (the kernel reads the bound columns from station ``i``'s row)."""
+    if key[j] != i or tcache[j] != t:
+        out = cache[j]
+        a = base[i, j]
+        b = base[i + 1, j]
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+        key[j] = i
+        tcache[j] = t
+
+
+@numba.njit(cache=True)
 def _loop_old(n, tab, i, t, j, out):
     for k in range(n):
         _old_blend(tab, i, t + 1e-9 * (k % 2), j, out)
@@ -78,14 +99,21 @@ def _loop_old(n, tab, i, t, j, out):
 
 
 @numba.njit(cache=True)
-def _loop_new(n, tab, base, cache, key, tcache, i, t, j, mode):
+def _loop_new(n, tab, base, cache, key, tcache, i, t, j, mode, copy):
+    m = tab.shape[0] - 1
     for k in range(n):
         if mode == 0:  # one track position: Newton iterations, Jacobian columns
-            _new_blend(tab, base, cache, key, tcache, i, t, j)
+            ik, tk = i, t
         elif mode == 1:  # a new position every call, between the same stations
-            _new_blend(tab, base, cache, key, tcache, i, t + 1e-9 * (k % 2), j)
-        else:  # a new station every call (worst case)
-            _new_blend(tab, base, cache, key, tcache, i + (k % 2), t, j)
+            ik, tk = i, t + 1e-9 * (k % 2)
+        elif mode == 2:  # a new station every call, two in turn (hot)
+            ik, tk = i + (k % 2), t
+        else:  # a new station every call, walking through the store (cold)
+            ik, tk = k % m, t
+        if copy:
+            _copy_blend(tab, base, cache, key, tcache, ik, tk, j)
+        else:
+            _base_blend(tab, base, cache, key, tcache, ik, tk, j)
     return cache[j, 0, 0]
 
 
@@ -111,19 +139,22 @@ def blend_costs(fields: dict, n: int = 2000) -> None:
     i, t = tab.shape[0] // 2, 0.37
     for j, name in enumerate(("left (wing rail, nose)", "right (check rail)")[: tab.shape[1]]):
         out = np.zeros(tab.shape[2:])
-        cache = np.zeros(tab.shape[1:])
-        key = np.full(tab.shape[1], -1, dtype=np.int64)
-        tcache = np.full(tab.shape[1], np.nan)
         _loop_old(2, tab, i, t, j, out)
-        _loop_new(2, tab, base, cache, key, tcache, i, t, j, 0)
         old = _best(lambda: _loop_old(n, tab, i, t, j, out)) / n  # noqa: B023
-        new = [
-            _best(lambda m=m: _loop_new(n, tab, base, cache, key, tcache, i, t, j, m)) / n  # noqa: B023
-            for m in (0, 1, 2)
-        ]
-        print(f"  {name:<24s} before {old * 1e6:7.2f} us per call; now: same position "
-              f"{new[0] * 1e6:6.3f} us, new position {new[1] * 1e6:6.2f} us, new station "
-              f"{new[2] * 1e6:6.2f} us")  # fmt: skip
+        print(f"  {name:<24s} before (d0e3487) {old * 1e6:7.2f} us per call")
+        for copy, label in ((True, "bound columns copied (05bea86)"), (False, "now")):
+            cache = np.zeros((tab.shape[1], tab.shape[2], tab.shape[3] if copy else K.T_SLOPE_MAX))
+            key = np.full(tab.shape[1], -1, dtype=np.int64)
+            tcache = np.full(tab.shape[1], np.nan)
+            _loop_new(2, tab, base, cache, key, tcache, i, t, j, 0, copy)
+            new = [
+                _best(lambda m=m, c=copy, x=cache, y=key, z=tcache, jj=j:
+                      _loop_new(n, tab, base, x, y, z, i, t, jj, m, c)) / n
+                for m in (0, 1, 2, 3)
+            ]  # fmt: skip
+            print(f"    {label:<31s} same position {new[0] * 1e6:6.3f} us, new position "
+                  f"{new[1] * 1e6:6.2f} us, new station: hot {new[2] * 1e6:6.2f} us, cold "
+                  f"{new[3] * 1e6:6.2f} us")  # fmt: skip
 
 
 def run_costs(distance_m: float = 2.0) -> None:
@@ -159,6 +190,8 @@ def main() -> None:
     print(f"building the shipped crossing's station tables: {time.perf_counter() - t0:.1f} s")
     blend_costs(fields)
     del fields
+    if "--blend-only" in sys.argv[1:]:
+        return
     print("the wheelset at 10 m/s: 4 m of plain track (check rail from 1.1 m), 1.7 m of crossing")
     run_costs()
 

@@ -81,7 +81,7 @@ def _search_loop(n, wtab, winfo, rtab, rinfo, cy, cz, scan_step, cs, cg, ch, wor
     found = 0
     for _ in range(n):
         ctx = K._make_ctx(winfo, rinfo, cy, cz, 0.0, 0.0)
-        found = K._candidates_at(wtab, rtab, ctx, scan_step, cs, cg, ch, work)
+        found = K._candidates_at(wtab, rtab, rtab, ctx, scan_step, cs, cg, ch, work)
     return found
 
 
@@ -119,7 +119,7 @@ def _wheel_loop(n, wtab, winfo, rtab, rinfo, htab, ktab, params, cy, cz, points,
     for _ in range(n):
         loaded = K.wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, 1.0, 0.0, cy, cz,
                                  0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 2.0 / 0.46, 0.0, 0.0, 0.0, 0.0,
-                                 0.0, points, 0, force, scratch)  # fmt: skip
+                                 0.0, points, 0, force, scratch, rtab)  # fmt: skip
     return loaded
 
 

@@ -12,6 +12,10 @@ References outside the code under test:
   zone ends), and the blend fraction's definition ``t = (s - x_i) / (x_{i+1} - x_i)``: 0 at a
   station, 1/2 halfway (within 1e-12: the rounding of track distances of ~70 m, 1e-14 m, over
   intervals of 10 mm);
+- the blend writes only the four base columns and the kernel reads the curvature-bound columns
+  from station ``i``'s own row: against the one table the blend made before (base columns
+  blended, bound columns copied from that row), the same contact points and forces to the last
+  bit;
 - refusals name the file, the line and the key.
 """
 
@@ -23,8 +27,10 @@ from typing import NamedTuple
 import numba
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
+from railexu.contact.evaluation import WheelsetContactModel
 from railexu.errors import InputError
 from railexu.model import forces
 from railexu.model.assembly import wheelset_geometry
@@ -38,7 +44,8 @@ TURNOUT = "turnout_uk_r245_diverging_facing"
 
 
 class _Stations(NamedTuple):
-    """What :func:`forces._station_interval` and :func:`forces._blend_station` read."""
+    """What :func:`forces._station_interval` and :func:`forces._blend_station` read (and the
+    tables' grid, ``sc_info``)."""
 
     sc_start: float
     sc_step: float
@@ -50,6 +57,7 @@ class _Stations(NamedTuple):
     sc_cache: np.ndarray
     sc_key: np.ndarray
     sc_t: np.ndarray
+    sc_info: np.ndarray
 
 
 #: The force function's station search and blend compiled here with its flags but without
@@ -105,7 +113,7 @@ def test_uniform_zone_blends_as_before_to_the_last_bit(switch_zone):
         after = _station_interval(d, float(s))
         assert after[0] == before[0] and (after[0] < 0 or after[1] == before[1]), (s, after)
         if before[0] >= 0:
-            d.sc_key[:] = -1  # recopy the bound columns: a fresh blend each time
+            d.sc_key[:] = -1  # a fresh blend each time
             old = _blended(d, before[0], before[1], side)
             d.sc_key[:] = -1
             new = _blended(d, *after, side)
@@ -176,6 +184,66 @@ def test_blend_fraction_at_and_between_non_uniform_stations(switch_zone):
     assert _station_interval(d, float(x[-1])) == (x.size - 2, 1.0)
     for s in (x[0] - 1e-9, x[-1] + 1e-9, np.nan):
         assert _station_interval(d, float(s))[0] == -1
+
+
+def test_bounds_from_the_station_row_give_the_copied_tables_contact(switch_zone):
+    """The switch panel (blade and stock rail; 0.25 m stations, the module's small store): at
+    random stations, blend fractions and wheelset poses (lateral +-10 mm: tread and flange,
+    one rail and two), the kernel with the blended base columns and the station row's bounds
+    (the force function since issue 29's speed stop) gives the contact points and the forces of
+    the kernel on one table holding both (the blend before it: the bound columns copied into
+    the blended table), to the last bit."""
+    rails, geometry = switch_zone
+    d = _data(sc_kernel_fields(rails, geometry, 5.0e-4))
+    assert d.sc_cache.shape[-1] == K.T_SLOPE_MAX < d.sc_tab.shape[-1]
+    model = WheelsetContactModel(geometry)
+    wtab = (model.wtab_l, model.wtab_r)
+    winfo = (model.winfo_l, model.winfo_r)
+    plain = ((model.rtab_l, model.rinfo_l), (model.rtab_r, model.rinfo_r))
+    scratch = np.empty(K.wheelset_scratch_size(model.winfo_l, model.winfo_r))
+    spin = 10.0 / geometry.left.nominal_radius_m
+    rng = np.random.default_rng(2929)
+    n_st = d.sc_index.shape[0]
+    loaded_points = []
+    for _ in range(80):
+        i, t = int(rng.integers(0, n_st - 1)), float(rng.uniform(0.0, 1.0))
+        y = rng.uniform(-0.010, 0.010)
+        roll, yaw = rng.uniform(-2e-3, 2e-3), rng.uniform(-3e-3, 3e-3)
+        # the height at which the wheels touch the plain rails (1 N), pressed 0 to 0.2 mm lower
+        touch = brentq(lambda z, y=y, r=roll, p=yaw: model.evaluate(y, z, r, p).force_N[2] - 1.0,
+                       0.3, 1.0, xtol=1e-10)  # fmt: skip
+        state = np.array([0.0, y, touch - rng.uniform(0.0, 2e-4), roll, yaw, 10.0, 0.0, 0.0,
+                          0.0, spin, 0.0])  # fmt: skip
+        new, old, info = [], [], []
+        for side in range(2):
+            if d.sc_side[side] < 0:  # the track's rail on this side
+                new.append(plain[side][:1] * 2)
+                old.append(plain[side][:1] * 2)
+                info.append(plain[side][1])
+                continue
+            _blend_station(d, 0, i, t, side)
+            base = d.sc_cache[0, d.sc_side[side]].copy()
+            row = d.sc_tab[d.sc_index[i, side]]
+            whole = row.copy()
+            whole[:, : K.T_SLOPE_MAX] = base
+            new.append((base, row))
+            old.append((whole, whole))
+            info.append(d.sc_info[side])
+        out = []
+        for tables in (new, old):
+            points = np.zeros((2, K.MAX_POINTS, K.N_POINT_FIELDS))
+            force = np.zeros(6)
+            K.wheelset_contact_with_scratch(
+                wtab[0], winfo[0], tables[0][0], info[0], wtab[1], winfo[1], tables[1][0],
+                info[1], model.htab, model.ktab, model.params, state, np.zeros(8), points,
+                force, scratch, tables[0][1], tables[1][1],
+            )  # fmt: skip
+            out.append((points, force))
+        (p_new, f_new), (p_old, f_old) = out
+        assert np.array_equal(p_new, p_old, equal_nan=True) and np.array_equal(f_new, f_old)
+        loaded_points.append(int((p_new[..., K.PF_N] > 0.0).sum(axis=1).max()))
+    # the poses load one rail and two (some none: the blade lower than the plain rail)
+    assert max(loaded_points) >= 2 and sum(n >= 1 for n in loaded_points) >= 40, loaded_points
 
 
 @pytest.mark.parametrize(

@@ -391,7 +391,7 @@ def _range_bounds(tab, a, b):
 
 
 @numba.njit(inline="always", **_JIT)
-def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
+def _curvature_bounds(ka, kb, py_a, py_b, wtab, rbnd, ctx):
     """Bounds ``(up, down)`` of the gap's curvature over the scan cell between the wheel nodes
     ``ka < kb`` whose locus falls on the rail at ``py_a``, ``py_b``: ``-down <= g'' <= up``
     [1/m], both ``>= 0``.
@@ -410,11 +410,11 @@ def _curvature_bounds(ka, kb, py_a, py_b, wtab, rtab, ctx):
     ib = min(rn - 1, int((max(py_a, py_b) - ctx[C_RY0]) / rstep) + 3)
     use_blocks = (
         wtab.shape[1] >= N_BLOCK_COLUMNS
-        and rtab.shape[1] >= N_BLOCK_COLUMNS
+        and rbnd.shape[1] >= N_BLOCK_COLUMNS
         and kb - ka > 2 * TABLE_BLOCK
     )
     w1, f2_lo, f2_hi, w3 = _table_bounds(wtab, ka, kb, use_blocks)
-    r1, z2_lo, z2_hi, z3 = _table_bounds(rtab, ia, ib, use_blocks)
+    r1, z2_lo, z2_hi, z3 = _table_bounds(rbnd, ia, ib, use_blocks)
     if use_blocks:
         z3 *= rstep
     else:
@@ -470,8 +470,8 @@ _STACK = 48
 
 
 @numba.njit(inline="always", **_JIT)
-def _hidden_minima(sa, ga, dga, sb, gb, dgb, py_a, py_b, up0, down0, stack, wtab, rtab, ctx,
-                   n_found, cand_s, cand_g):  # fmt: skip
+def _hidden_minima(sa, ga, dga, sb, gb, dgb, py_a, py_b, up0, down0, stack, wtab, rtab, rbnd,
+                   ctx, n_found, cand_s, cand_g):  # fmt: skip
     """Minima hidden in the scan cell ``[sa, sb]`` whose gap slope has the same sign at both
     ends (a minimum and a hump between two nodes), with ``-down <= g'' <= up`` over the cell
     (:func:`_curvature_bounds`). Returns the new number of candidates.
@@ -513,7 +513,7 @@ def _hidden_minima(sa, ga, dga, sb, gb, dgb, py_a, py_b, up0, down0, stack, wtab
             kb = int((b - ctx[C_WS0]) / ctx[C_WSTEP]) + 1
             pa = py_a + (a - sa) / (sb - sa) * (py_b - py_a)
             pb = py_a + (b - sa) / (sb - sa) * (py_b - py_a)
-            up, down = _curvature_bounds(ka, kb, pa, pb, wtab, rtab, ctx)
+            up, down = _curvature_bounds(ka, kb, pa, pb, wtab, rbnd, ctx)
         else:
             up = up0
             down = down0
@@ -674,8 +674,8 @@ def _refine(sa, sb, wtab, rtab, ctx, sign):
     return s
 
 
-def _scan_cell_py(ka, ga, dga, pya, kb, gb, dgb, pyb, stack, wtab, rtab, ctx, n_found, cand_s,
-               cand_g):  # fmt: skip
+def _scan_cell_py(ka, ga, dga, pya, kb, gb, dgb, pyb, stack, wtab, rtab, rbnd, ctx, n_found,
+                  cand_s, cand_g):  # fmt: skip
     """The minima between the wheel nodes ``ka < kb`` (both on the rail) from the gap, its
     exact slope and the locus's place on the rail at both: the slope turns upwards (the
     minimum, refined), or it keeps its sign and the cell touches the overlap (a gap below
@@ -687,9 +687,9 @@ def _scan_cell_py(ka, ga, dga, pya, kb, gb, dgb, pyb, stack, wtab, rtab, ctx, n_
         g_ref = _gap_at(s_ref, wtab, rtab, ctx)[0]
         return _add_candidate(s_ref, g_ref, n_found, cand_s, cand_g)
     if min(ga, gb) <= 1.0e-4 and (dga < 0.0) == (dgb < 0.0):
-        up, down = _curvature_bounds(ka, kb, pya, pyb, wtab, rtab, ctx)
+        up, down = _curvature_bounds(ka, kb, pya, pyb, wtab, rbnd, ctx)
         return _hidden_minima(s_a, ga, dga, s_b, gb, dgb, pya, pyb, up, down, stack, wtab, rtab,
-                              ctx, n_found, cand_s, cand_g)  # fmt: skip
+                              rbnd, ctx, n_found, cand_s, cand_g)  # fmt: skip
     return n_found
 
 
@@ -740,7 +740,7 @@ def _candidates(wtab, winfo, rtab, rinfo, cy, cz, phi, psi, scan_step, cand_s, c
     """:func:`find_contact_candidates` with its work array from the caller (at least
     :func:`candidates_work_size` entries), compiled without reference counting."""
     ctx = _make_ctx(winfo, rinfo, cy, cz, phi, psi)
-    return _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work)
+    return _candidates_at(wtab, rtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work)
 
 
 #: A hump this far above the rail [m] separates two patches whatever its exact height: the
@@ -754,7 +754,7 @@ HUMP_SEPARATE_M = 1.0e-3
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work):
+def _candidates_at(wtab, rtab, rbnd, ctx, scan_step, cand_s, cand_g, cand_h, work):
     """:func:`_candidates` for the wheelset pose of ``ctx`` (:func:`_make_ctx`), which
     :func:`wheel_contact` builds once for the search and the contact points."""
     cy = ctx[C_CY]
@@ -816,7 +816,7 @@ def _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work):
             on_b = g < 1.0e8
             if on_a and on_b:
                 n_found = _scan_cell(k_prev, g_prev, dg_prev, py_prev, kk, g, dg, py, stack,
-                                     wtab, rtab, ctx, n_found, cand_s, cand_g)  # fmt: skip
+                                     wtab, rtab, rbnd, ctx, n_found, cand_s, cand_g)  # fmt: skip
             elif on_a or on_b:
                 # the cell where the locus comes onto (leaves) the rail: near the overlap, the
                 # last table node off the rail is found and the part on it scanned like a
@@ -835,12 +835,12 @@ def _candidates_at(wtab, rtab, ctx, scan_step, cand_s, cand_g, cand_h, work):
                             k_on_new = k_mid
                             if on_b:
                                 n_found = _scan_edge_cell(k_mid, g_mid, dg_mid, py_mid, k_on, g_on,
-                                                     dg_on, py_on, stack, wtab, rtab, ctx,
-                                                     n_found, cand_s, cand_g)  # fmt: skip
+                                                     dg_on, py_on, stack, wtab, rtab, rbnd,
+                                                     ctx, n_found, cand_s, cand_g)  # fmt: skip
                             else:
                                 n_found = _scan_edge_cell(k_on, g_on, dg_on, py_on, k_mid, g_mid,
-                                                     dg_mid, py_mid, stack, wtab, rtab, ctx,
-                                                     n_found, cand_s, cand_g)  # fmt: skip
+                                                     dg_mid, py_mid, stack, wtab, rtab, rbnd,
+                                                     ctx, n_found, cand_s, cand_g)  # fmt: skip
                             k_on = k_on_new
                             g_on = g_mid
                             dg_on = dg_mid
@@ -1258,7 +1258,7 @@ def _cell_moments(a, fa, b, fb):
 @numba.njit(**JIT_NO_REFCOUNT)
 def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, cz, phi, psi,
                   vx, vy, vz, wx, wy, wz, rail_dy, rail_dz, rail_vy, rail_vz, points, side,
-                  force, scratch):  # fmt: skip
+                  force, scratch, rbnd):  # fmt: skip
     """Contact forces of one wheel on its rail, all contact points.
 
     The wheelset state is given in the real track frame; for the right wheel (``mirror = -1``)
@@ -1266,6 +1266,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
 
     Args:
         wtab, winfo, rtab, rinfo: wheel and rail tables (see :func:`find_contact_candidates`).
+            Only the rail table's four base columns are read from ``rtab``.
         htab: Hertz table (:func:`railexu.contact.hertz.hertz_table`).
         ktab: Kalker table for the Poisson ratio
             (:func:`railexu.contact.kalker.kalker_table_for_poisson`).
@@ -1282,6 +1283,10 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
             [N m] (track frame) are **added** to it.
         scratch: work array of at least ``4 * MAX_POINTS + candidates_work_size(winfo)``
             entries.
+        rbnd: the rail table whose curvature-bound columns (``T_SLOPE_MAX`` on) the search
+            reads: ``rtab`` itself, or in a switch-and-crossing zone the station's own table
+            (its bounds hold for the blend of two stations, ``rtab``: issue 29, so the blend
+            need not copy them; :func:`railexu.model.forces._blend_station`).
 
     Returns:
         the number of contact points carrying load.
@@ -1301,7 +1306,7 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
     cand_h = scratch[2 * MAX_POINTS : 3 * MAX_POINTS]
     weights = scratch[3 * MAX_POINTS : 4 * MAX_POINTS]
     ctx = _make_ctx(winfo, rinfo, lcy, lcz, lphi, lpsi)
-    n_cand = _candidates_at(wtab, rtab, ctx, params[P_SCAN], cand_s, cand_g, cand_h,
+    n_cand = _candidates_at(wtab, rtab, rbnd, ctx, params[P_SCAN], cand_s, cand_g, cand_h,
                             scratch[4 * MAX_POINTS :])  # fmt: skip
     candidate_weights(n_cand, cand_g, cand_h, weights)
     for k in range(MAX_POINTS):
@@ -1491,7 +1496,7 @@ def wheelset_contact(wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r, 
     scratch = np.empty(wheelset_scratch_size(winfo_l, winfo_r))
     return wheelset_contact_with_scratch(
         wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r, rinfo_r, htab, ktab, params,
-        state, rails, points, force, scratch,
+        state, rails, points, force, scratch, rtab_l, rtab_r,
     )  # fmt: skip
 
 
@@ -1505,19 +1510,21 @@ def wheelset_scratch_size(winfo_l, winfo_r):
 @numba.njit(**JIT_NO_REFCOUNT)
 def wheelset_contact_with_scratch(wtab_l, winfo_l, rtab_l, rinfo_l, wtab_r, winfo_r, rtab_r,
                                   rinfo_r, htab, ktab, params, state, rails, points, force,
-                                  scratch):  # fmt: skip
+                                  scratch, rbnd_l, rbnd_r):  # fmt: skip
     """:func:`wheelset_contact` with its scratch array from the caller (at least
-    :func:`wheelset_scratch_size` entries), compiled without reference counting."""
+    :func:`wheelset_scratch_size` entries), compiled without reference counting; ``rbnd_l``,
+    ``rbnd_r``: the tables whose curvature-bound columns the search reads (``rtab_l``,
+    ``rtab_r`` themselves but in a switch-and-crossing zone: :func:`wheel_contact`)."""
     for i in range(6):
         force[i] = 0.0
     n = wheel_contact(
         wtab_l, winfo_l, rtab_l, rinfo_l, htab, ktab, params, 1.0, state[0], state[1], state[2],
         state[3], state[4], state[5], state[6], state[7], state[8], state[9], state[10],
-        rails[0], rails[1], rails[2], rails[3], points, 0, force, scratch,
+        rails[0], rails[1], rails[2], rails[3], points, 0, force, scratch, rbnd_l,
     )  # fmt: skip
     n += wheel_contact(
         wtab_r, winfo_r, rtab_r, rinfo_r, htab, ktab, params, -1.0, state[0], state[1], state[2],
         state[3], state[4], state[5], state[6], state[7], state[8], state[9], state[10],
-        rails[4], rails[5], rails[6], rails[7], points, 1, force, scratch,
+        rails[4], rails[5], rails[6], rails[7], points, 1, force, scratch, rbnd_r,
     )  # fmt: skip
     return n

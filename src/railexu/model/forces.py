@@ -108,7 +108,7 @@ NO_SC_TAB = np.zeros((0, 1, K.N_TABLE_COLUMNS))
 NO_SC_INDEX = np.zeros((0, 2), dtype=np.int64)
 NO_SC_SIDE = np.full(2, -1, dtype=np.int64)
 NO_SC_INFO = np.zeros((2, 3))
-NO_SC_CACHE = np.zeros((0, 1, 1, K.N_TABLE_COLUMNS))
+NO_SC_CACHE = np.zeros((0, 1, 1, K.T_SLOPE_MAX))
 NO_SC_KEY = np.zeros((0, 2), dtype=np.int64)
 NO_SC_T = np.zeros((0, 2))
 NO_SC_BASE = np.zeros((0, 1, K.T_SLOPE_MAX))
@@ -162,10 +162,11 @@ class KernelData(NamedTuple):
     sc_index: np.ndarray = NO_SC_INDEX  # (n_stations, 2) int64: each station's row per side
     sc_side: np.ndarray = NO_SC_SIDE  # per side the index into sc_cache's axis 1, -1: plain
     sc_info: np.ndarray = NO_SC_INFO  # per side the station tables' grid (y0, step, n)
-    # per wheelset and side its blended table (sc_cache), the station whose bound columns it
-    # holds (sc_key, -1: none) and the blend fraction of its base columns (sc_t): written by
-    # the force function, which re-blends only what changed (model/sc_tables.py)
-    sc_cache: np.ndarray = NO_SC_CACHE  # (n_ws, n_sides, M, columns)
+    # per wheelset and side its blended base columns (sc_cache; the kernel reads the bound
+    # columns from station i's own row of sc_tab), the station i of the blend (sc_key, -1:
+    # none; -2 - row: that row's own, two stations sharing it) and its fraction (sc_t):
+    # written by the force function, which re-blends only what changed (_blend_station)
+    sc_cache: np.ndarray = NO_SC_CACHE  # (n_ws, n_sides, M, 4)
     sc_key: np.ndarray = NO_SC_KEY  # (n_ws, 2) int64
     sc_t: np.ndarray = NO_SC_T  # (n_ws, 2)
     # the four base columns of sc_tab on their own (n_rows, M, 4): the blend at a new position
@@ -365,27 +366,38 @@ def _station_interval(d, s):
 
 @numba.njit(**_JIT_NO_REFCOUNT)
 def _blend_station(d, w, i, t, side):
-    """Make wheelset ``w``'s table of one side at ``(1 - t) station i + t station i+1``, from its
-    cache (``d.sc_cache[w, sc_side]``): the bound columns (pair envelopes of stations ``i`` and
-    ``i + 1``, :func:`railexu.model.sc_tables.pair_envelope_bounds`) copied only when ``i``
-    changes, the four base columns blended only when ``t`` does (the solver's evaluations at
-    one track position, its Jacobian's columns but the longitudinal one, reuse it), read from
-    their own contiguous copy (``d.sc_base``)."""
-    j = d.sc_side[side]
-    out = d.sc_cache[w, j]
-    a = d.sc_tab[d.sc_index[i, side]]
-    if d.sc_key[w, side] != i:
-        for r in range(out.shape[0]):
-            for c in range(K.T_SLOPE_MAX, out.shape[1]):
-                out[r, c] = a[r, c]
-        d.sc_key[w, side] = i
-        d.sc_t[w, side] = np.nan
-    if d.sc_t[w, side] != t:
-        a = d.sc_base[d.sc_index[i, side]]
-        b = d.sc_base[d.sc_index[i + 1, side]]
+    """Make wheelset ``w``'s table of one side at ``(1 - t) station i + t station i+1`` in its
+    cache (``d.sc_cache[w, sc_side]``): the four base columns, blended only when ``i`` or ``t``
+    changes (the solver's evaluations at one track position, its Jacobian's columns but the
+    longitudinal one, reuse it), read from their own contiguous copy (``d.sc_base``). The
+    curvature-bound columns are not copied: the kernel reads them from station ``i``'s own row
+    (``d.sc_tab[d.sc_index[i, side]]``, the pair envelopes of stations ``i`` and ``i + 1``,
+    :func:`railexu.model.sc_tables.pair_envelope_bounds`, which hold for any ``t``). Copying
+    them (24 columns of 4077 rows, 0.8 MB from a store of ~1 GB) at every new station cost
+    ~100 us per side, most of a turnout run's force function (issue 29, docs/performance.md).
+
+    Two stations that share one row (the plain rail between a turnout's panels) blend to that
+    row at any ``t`` (``a + t (b - a)`` with ``b = a``): its base columns are copied once and
+    kept while the wheelset stays on such stations (``sc_key`` then ``-2 - row``)."""
+    ra = d.sc_index[i, side]
+    rb = d.sc_index[i + 1, side]
+    if ra == rb:
+        if d.sc_key[w, side] != -2 - ra:
+            out = d.sc_cache[w, d.sc_side[side]]
+            a = d.sc_base[ra]
+            for r in range(out.shape[0]):
+                for c in range(K.T_SLOPE_MAX):
+                    out[r, c] = a[r, c]
+            d.sc_key[w, side] = -2 - ra
+            d.sc_t[w, side] = np.nan
+    elif d.sc_key[w, side] != i or d.sc_t[w, side] != t:
+        out = d.sc_cache[w, d.sc_side[side]]
+        a = d.sc_base[ra]
+        b = d.sc_base[rb]
         for r in range(out.shape[0]):
             for c in range(K.T_SLOPE_MAX):
                 out[r, c] = a[r, c] + t * (b[r, c] - a[r, c])
+        d.sc_key[w, side] = i
         d.sc_t[w, side] = t
 
 
@@ -441,6 +453,7 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             rails[4 * side + 2] += qt[r + 2 * side]
             rails[4 * side + 3] += qt[r + 2 * side + 1]
     rtab_l, rinfo_l, rtab_r, rinfo_r = d.rtab[0], d.rinfo[0], d.rtab[1], d.rinfo[1]
+    rbnd_l, rbnd_r = rtab_l, rtab_r  # the tables whose curvature bounds the search reads
     end = work.shape[0]
     n_st = d.sc_index.shape[0]
     if n_st > 1:
@@ -450,16 +463,18 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
             if d.sc_side[0] >= 0:
                 _blend_station(d, w, i, t, 0)
                 rtab_l = d.sc_cache[w, d.sc_side[0]]
+                rbnd_l = d.sc_tab[d.sc_index[i, 0]]
                 rinfo_l = d.sc_info[0]
             if d.sc_side[1] >= 0:
                 _blend_station(d, w, i, t, 1)
                 rtab_r = d.sc_cache[w, d.sc_side[1]]
+                rbnd_r = d.sc_tab[d.sc_index[i, 1]]
                 rinfo_r = d.sc_info[1]
     K.wheelset_contact_with_scratch(
         d.wtab[d.wtab_index[w, 0]], d.winfo[w, 0], rtab_l, rinfo_l,
         d.wtab[d.wtab_index[w, 1]], d.winfo[w, 1],
         rtab_r, rinfo_r, d.htab, d.ktab, d.params, state, rails, points[w], force,
-        work[WORK_FIXED:end],
+        work[WORK_FIXED:end], rbnd_l, rbnd_r,
     )  # fmt: skip
     if elastic:
         # reaction on the rail masses, and the static wheel load they carry at rest (their

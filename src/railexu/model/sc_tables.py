@@ -45,8 +45,9 @@ def sc_kernel_fields(
     stations' track distances (``sc_stations``; ``sc_step`` their step if uniform, else 0), the
     distinct station tables with pair-envelope bounds (``sc_tab``, :func:`envelope_rows`),
     which of them each station and side reads (``sc_index``, -1: plain rail there) and each
-    wheelset's blend cache (``sc_cache``: its blended table per side; ``sc_key``: the station
-    ``i`` whose bounds it holds, -1 none; ``sc_t``: the blend fraction of its base columns;
+    wheelset's blend cache (``sc_cache``: its blended base columns per side, the bound columns
+    read by the kernel from station ``i``'s own row; ``sc_key``: the station ``i`` of its
+    blend, -1 none; ``sc_t``: the blend fraction;
     ``sc_base``: the store's four base columns as their own contiguous array, which the blend
     reads at every new track position: 2.5 times faster than from the 28-column rows, for
     1/7 more memory).
@@ -79,7 +80,7 @@ def sc_kernel_fields(
     rows = max(m for _, _, _, m in sets)
     table, station_rows = envelope_rows(sets, rows, stations.size)
     return {
-        "sc_cache": np.zeros((n_wheelsets, len(sets), rows, table.shape[2])),
+        "sc_cache": np.zeros((n_wheelsets, len(sets), rows, K.T_SLOPE_MAX)),
         "sc_key": np.full((n_wheelsets, 2), -1, dtype=np.int64),
         "sc_t": np.full((n_wheelsets, 2), np.nan),
         "sc_start": float(stations[0]),
