@@ -20,7 +20,9 @@ Method:
    the flangeway (the grid covers every lateral position) and a patch cannot jump between
    rails (each patch is the overlap region itself, wherever it lies).
 3. *Normal problem per patch.* The contact plane is tilted by the rail's slope angle at the
-   patch's deepest point: the normal overlap is ``h cos(delta)`` and the lateral element size
+   patch's deepest point (on the fine grid the rail's curves are monotone cubics between their
+   resampled points, not straight: a kink every 0.2 mm would give the pressure a false
+   logarithmic peak): the normal overlap is ``h cos(delta)`` and the lateral element size
    ``dy / cos(delta)``; the pressure follows from the elastic half-space
    (:func:`railexu.contact.halfspace.solve_normal`), frictionless. The normal force acts along
    the plane's normal: vertical component ``N cos(delta)``, lateral ``N sin(delta)``.

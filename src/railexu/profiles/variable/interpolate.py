@@ -8,7 +8,9 @@ curve into *parts*):
    its fraction ``t`` in [0, 1] of the part's length, so that ``t = 0`` and ``t = 1`` are the
    same feature (blade tip, nose start, ...) in every slice. Without features a slice is one
    part. Within a slice the curve is a monotone cubic (PCHIP) in arc length through the file's
-   points: it passes through them, keeps their kinks and does not overshoot.
+   points: it passes through them, keeps their kinks and does not overshoot
+   (``curve="spline"``: CONTACT's interpolating cubic spline instead, for comparisons with
+   CONTACT; smooth curvature, overshoot beside real kinks).
 2. Every slice's part ``p`` is resampled at the same ``M_p`` fractions (spacing at most
    ``spacing_m`` along the longest slice's part).
 3. Between two neighbouring slices each resampled point moves linearly in ``s`` (a ruled
