@@ -8,7 +8,9 @@ curve into *parts*):
    its fraction ``t`` in [0, 1] of the part's length, so that ``t = 0`` and ``t = 1`` are the
    same feature (blade tip, nose start, ...) in every slice. Without features a slice is one
    part. Within a slice the curve is a monotone cubic (PCHIP) in arc length through the file's
-   points: it passes through them, keeps their kinks and does not overshoot.
+   points: it passes through them, keeps their kinks and does not overshoot
+   (``curve="spline"``: CONTACT's interpolating cubic spline instead, for comparisons with
+   CONTACT; smooth curvature, overshoot beside real kinks).
 2. Every slice's part ``p`` is resampled at the same ``M_p`` fractions (spacing at most
    ``spacing_m`` along the longest slice's part).
 3. Between two neighbouring slices each resampled point moves linearly in ``s`` (a ruled
@@ -33,13 +35,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
+from scipy.interpolate import CubicSpline, PchipInterpolator
 
 from railexu.profiles.core import ProfileError
 from railexu.profiles.variable.slices import ProfileSlices, arc_length, check_slices
 
 #: Largest distance along the curve between two resampled points [m].
 DEFAULT_SPACING_M = 2.0e-4
+
+#: The curves through a slice's points in arc length (``VariableProfile(curve=...)``).
+SLICE_CURVES = {"pchip": PchipInterpolator, "spline": CubicSpline}
 
 
 class VariableProfile:
@@ -49,7 +54,17 @@ class VariableProfile:
     track position [m].
     """
 
-    def __init__(self, slices: ProfileSlices, spacing_m: float = DEFAULT_SPACING_M):
+    def __init__(
+        self, slices: ProfileSlices, spacing_m: float = DEFAULT_SPACING_M, curve: str = "pchip"
+    ):
+        """``curve``: the curve through each slice's points in arc length, ``"pchip"`` (monotone
+        cubic: keeps kinks, no overshoot; the default) or ``"spline"`` (the interpolating
+        cubic spline, C2, not-a-knot: CONTACT's smooth surface through the same points, for
+        comparisons with CONTACT; it overshoots beside a real kink)."""
+        if curve not in SLICE_CURVES:
+            raise ProfileError(
+                f"slice curve {curve!r}: not one of {', '.join(sorted(SLICE_CURVES))}"
+            )
         check_slices(slices)
         self.slices = slices
         self.positions_m = slices.positions_m
@@ -63,7 +78,7 @@ class VariableProfile:
         samples = np.full((slices.n_slices, self._offsets[-1], 2), np.nan)
         for k in range(slices.n_slices):
             _resample_slice(slices.points_m[k], self._bounds[k], self._present[k], self._counts,
-                            self._offsets, samples[k])  # fmt: skip
+                            self._offsets, samples[k], SLICE_CURVES[curve])  # fmt: skip
         self._samples = samples
         self._check_no_folds()
 
@@ -116,14 +131,18 @@ class VariableProfile:
         pts = [pts[[0, -1]] for _, pts in self.parts_at(s_m)]
         return np.unique(np.vstack(pts), axis=0) if pts else np.empty((0, 2))
 
-    def heights_on_grid(self, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+    def heights_on_grid(
+        self, s_m: np.ndarray, y_m: np.ndarray, *, smooth: bool = False
+    ) -> np.ndarray:
         """``z(y)`` [m] (downwards) of the top surface at each ``s``, ``(len(s), len(y))``.
 
         Where several curves lie above one ``y`` the topmost (smallest ``z``) counts; where none
         does the value is ``+inf`` (no rail: the flangeway of an interrupted crossing, beyond the
-        rails).
+        rails). Between the resampled points the curve is straight (``smooth=False``: a
+        polyline, kinks every ``spacing_m``) or a monotone cubic in ``y`` (``smooth=True``: no
+        kinks, for the contact's pressure; :func:`top_surface_heights`).
         """
-        return top_surface_heights(self.curves_at, s_m, y_m)
+        return top_surface_heights(self.curves_at, s_m, y_m, smooth=smooth)
 
     def _check_no_folds(self) -> None:
         """Refuse neighbouring slices whose interpolated curve folds over halfway between."""
@@ -141,10 +160,40 @@ class VariableProfile:
                     )
 
 
-def top_surface_heights(curves_at, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+def pchip_heights(y_pts: np.ndarray, z_pts: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+    """The monotone cubic (PCHIP, Fritsch & Carlson, SIAM J. Numer. Anal. 17, 1980; the
+    weighted harmonic-mean slopes of Fritsch & Butland) through the points ``(y, z)`` [m],
+    ``y`` increasing, evaluated at ``y_m`` inside them: continuous slope, so a curve given by
+    points ``0.2 mm`` apart has no kinks between them (a kink is a wedge: it puts a logarithmic
+    peak into the half-space pressure on grids finer than the points)."""
+    hy = np.diff(y_pts)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.where(hy > 0.0, np.diff(z_pts) / hy, 0.0)
+        w1 = 2.0 * hy[1:] + hy[:-1]
+        w2 = hy[1:] + 2.0 * hy[:-1]
+        inner = (w1 + w2) / (w1 / d[:-1] + w2 / d[1:])
+    m = np.empty_like(z_pts)
+    m[1:-1] = np.where(d[:-1] * d[1:] > 0.0, inner, 0.0)
+    m[0], m[-1] = d[0], d[-1]
+    i = np.clip(np.searchsorted(y_pts, y_m, side="right") - 1, 0, y_pts.size - 2)
+    h = hy[i]
+    t = np.where(h > 0.0, (y_m - y_pts[i]) / np.where(h > 0.0, h, 1.0), 0.0)
+    t2, t3 = t * t, t * t * t
+    return (
+        (2 * t3 - 3 * t2 + 1) * z_pts[i]
+        + (t3 - 2 * t2 + t) * h * m[i]
+        + (-2 * t3 + 3 * t2) * z_pts[i + 1]
+        + (t3 - t2) * h * m[i + 1]
+    )
+
+
+def top_surface_heights(
+    curves_at, s_m: np.ndarray, y_m: np.ndarray, *, smooth: bool = False
+) -> np.ndarray:
     """``z(y)`` [m] (downwards) of the top surface at each ``s``, ``(len(s), len(y))``, from
     ``curves_at(s)`` (the rail curves ``(n, 2)`` at ``s``): where several curves lie above one
-    ``y`` the topmost (smallest ``z``) counts; where none does the value is ``+inf``."""
+    ``y`` the topmost (smallest ``z``) counts; where none does the value is ``+inf``. Between
+    a curve's points linear (``smooth=False``) or :func:`pchip_heights` (``smooth=True``)."""
     s_m = np.atleast_1d(np.asarray(s_m, dtype=float))
     y_m = np.asarray(y_m, dtype=float)
     out = np.full((s_m.size, y_m.size), np.inf)
@@ -152,7 +201,10 @@ def top_surface_heights(curves_at, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarr
         for c in curves_at(float(s)):
             inside = (y_m >= c[0, 0]) & (y_m <= c[-1, 0])
             if np.any(inside):
-                z = np.interp(y_m[inside], c[:, 0], c[:, 1])
+                if smooth and c.shape[0] > 2:
+                    z = pchip_heights(c[:, 0], c[:, 1], y_m[inside])
+                else:
+                    z = np.interp(y_m[inside], c[:, 0], c[:, 1])
                 out[j, inside] = np.minimum(out[j, inside], z)
     return out
 
@@ -169,11 +221,12 @@ def _part_bounds(slices: ProfileSlices) -> tuple[np.ndarray, np.ndarray]:
     return f, present
 
 
-def _resample_slice(points, bounds, present, counts, offsets, out) -> None:
-    """Resample one slice's existing parts at the common fractions into ``out`` (in place)."""
+def _resample_slice(points, bounds, present, counts, offsets, out, make=PchipInterpolator):
+    """Resample one slice's existing parts at the common fractions into ``out`` (in place);
+    ``make(a, v)`` the curve through the points in arc length ``a``."""
     a = arc_length(points)
-    fy = PchipInterpolator(a, points[:, 0])
-    fz = PchipInterpolator(a, points[:, 1])
+    fy = make(a, points[:, 0])
+    fz = make(a, points[:, 1])
     for p, m in enumerate(counts):
         if present[p]:
             t = np.linspace(bounds[p], bounds[p + 1], m)

@@ -106,10 +106,13 @@ class ZonedProfile:
         shift = np.asarray(p.offset_m, dtype=float)
         return [c + shift for c in p.profile.curves_at(float(s_m) - p.s0_m)]
 
-    def heights_on_grid(self, s_m: np.ndarray, y_m: np.ndarray) -> np.ndarray:
+    def heights_on_grid(
+        self, s_m: np.ndarray, y_m: np.ndarray, *, smooth: bool = False
+    ) -> np.ndarray:
         """``z(y)`` [m] (down) of the top surface at each ``s`` (as
-        :meth:`VariableProfile.heights_on_grid`: ``+inf`` where no rail lies)."""
-        return top_surface_heights(self.curves_at, s_m, y_m)
+        :meth:`VariableProfile.heights_on_grid`: ``+inf`` where no rail lies; ``smooth``
+        a monotone cubic between the curves' points)."""
+        return top_surface_heights(self.curves_at, s_m, y_m, smooth=smooth)
 
 
 __all__ = ["Panel", "ZonedProfile"]
