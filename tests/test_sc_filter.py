@@ -33,7 +33,9 @@ import pytest
 
 from railexu.contact import kernel as K
 from railexu.errors import InputError
+from railexu.model.forces import filter_weight
 from railexu.model.sc_filter import filter_weights, filtered_index, filtered_tables
+from railexu.model.sc_tables import filter_windows
 from railexu.track.variable_rails import VariableRails
 
 
@@ -175,13 +177,16 @@ def test_uniform_zone_filtered_is_the_plain_zone():
         assert np.max(np.abs(ta[ok] - tb[ok])) < 1e-9 * max(1.0, np.max(np.abs(ta[ok])))
 
 
-def _ramp_zone_heights(step_m: float, filter_m: float, rise_m: float = 0.0015):
+def _ramp_zone_heights(
+    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False
+):
     """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
     rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
     slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
     (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
-    0.02-0.13 m and the linearly blended table's height at the rail's top there minus the
-    plain rail's [m]."""
+    0.02-0.13 m and the table's height at the rail's top there minus the plain rail's [m]:
+    the contact filter at ``s`` (:func:`railexu.model.forces.filter_weight`, the default) or,
+    ``at_stations``, the filtered stations blended linearly (the first form)."""
     from pathlib import Path
 
     from railexu.model.assembly import wheelset_geometry
@@ -205,12 +210,19 @@ def _ramp_zone_heights(step_m: float, filter_m: float, rise_m: float = 0.0015):
     rails = VariableRails(left=profile, start_m=5.0, station_step_m=step_m, x_max_m=0.0,
                           contact_filter_m=filter_m)  # fmt: skip
     geometry = wheelset_geometry(vehicle.wheelsets[0], track)
-    f = sc_kernel_fields(rails, geometry, vehicle.contact.curvature_smoothing_m)
+    f = sc_kernel_fields(
+        rails, geometry, vehicle.contact.curvature_smoothing_m, filter_at_stations=at_stations
+    )
     heights = f["sc_tab"][f["sc_index"][:, 0]][:, :, 0]
     row = int(np.nanargmax(heights[0]))  # the rail's top
     x = f["sc_stations"] - rails.start_m
     s = np.linspace(0.02, 0.13, 2201)
-    return s, np.interp(s, x, heights[:, row] - heights[0, row])
+    top = heights[:, row] - heights[0, row]
+    if f["sc_filter"] == 0.0:
+        return s, np.interp(s, x, top)
+    assert f["sc_filter"] == filter_m
+    w = np.array([[filter_weight(x, j, v, filter_m) for j in range(x.size)] for v in s])
+    return s, w @ top
 
 
 def test_filtered_ramp_of_slices_converges_to_the_box_average():
@@ -225,15 +237,16 @@ def test_filtered_ramp_of_slices_converges_to_the_box_average():
     ramp = lambda u: vertical * np.clip((u - 0.05) / 0.05, 0.0, 1.0)  # noqa: E731
     u = np.linspace(-0.5, 0.5, 4001) * length
     steps = (0.004, 0.002, 0.001)
-    errors = []
-    for h in steps:
-        s, blend = _ramp_zone_heights(h, length, rise)
-        exact = np.array([np.trapezoid(ramp(v + u), u) / length for v in s])
-        errors.append(np.max(np.abs(blend - exact)))
     alpha = rise / 0.05
-    for h, e in zip(steps, errors, strict=True):
-        assert e <= 0.3 * alpha / length * h**2  # as the kink above (measured 0.16-0.25)
-    assert errors[0] / errors[2] > 8.0  # second order over two halvings
+    for at_stations in (True, False):
+        errors = []
+        for h in steps:
+            s, blend = _ramp_zone_heights(h, length, rise, at_stations)
+            exact = np.array([np.trapezoid(ramp(v + u), u) / length for v in s])
+            errors.append(np.max(np.abs(blend - exact)))
+        for h, e in zip(steps, errors, strict=True):
+            assert e <= 0.3 * alpha / length * h**2  # as the kink above (measured 0.16-0.25)
+        assert errors[0] / errors[2] > 8.0  # second order over two halvings
     s, blend = _ramp_zone_heights(0.002, 0.0, rise)
     assert np.max(np.abs(blend - ramp(s))) < 1e-8
 
@@ -248,3 +261,63 @@ def test_turnout_key_sets_the_filter_and_refuses_a_bad_length():
     assert off.variable_rails.contact_filter_m == 0.0
     with pytest.raises(InputError, match="contact_filter"):
         load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=-1 mm"])
+
+
+def _weights_at(x: np.ndarray, s: float, length: float) -> np.ndarray:
+    return np.array([filter_weight(x, j, s, length) for j in range(x.size)])
+
+
+def test_filter_at_the_wheel_against_the_stations_closed_form():
+    """The contact filter at the wheelset's position (:func:`forces.filter_weight`, the
+    kernel's): at a station the same weights as the station's filtered table
+    (:func:`filter_weights`, the trapezoid rule) within 1e-14; everywhere non-negative, summing
+    to 1 within 1e-14, a line reproduced within 1e-14 away from the zone's ends (the filter's
+    box a linear functional), inside the interval's window (:func:`filter_windows`); C1 along
+    the track: the one-sided derivatives of every weight at each station and at each
+    ``station +- L/2`` (where the box's ends cross a station) agree within 1e-5 of ``1/L``,
+    where the linear blend of the filtered stations (the first form) jumps by more than
+    ``1/L``; random stations 4-30 mm apart."""
+    rng = np.random.default_rng(7)
+    x = np.cumsum(np.r_[0.0, rng.uniform(0.004, 0.03, 25)])
+    length = 0.012
+    reference = filter_weights(x, length)
+    for i in range(x.size):
+        expected = np.zeros(x.size)
+        for j, v in reference[i].items():
+            expected[j] = v
+        assert np.max(np.abs(_weights_at(x, x[i], length) - expected)) < 1e-14
+    windows = filter_windows(x, length)
+    for s in np.linspace(x[0], x[-1], 1501):
+        w = _weights_at(x, s, length)
+        assert w.min() >= 0.0 and abs(w.sum() - 1.0) < 1e-14
+        i = min(int(np.searchsorted(x, s, side="right")) - 1, x.size - 2)
+        nonzero = np.nonzero(w)[0]
+        assert windows[i, 0] <= nonzero.min() and nonzero.max() <= windows[i, 1]
+        if x[0] + length / 2 <= s <= x[-1] - length / 2:
+            assert abs(w @ (3.0 * x - 0.2) - (3.0 * s - 0.2)) < 1e-14
+    eps = 1e-6  # one-sided second-order differences: exact on the weights' quadratic pieces
+    for p in np.concatenate([x[2:-2], x[2:-2] + length / 2, x[2:-2] - length / 2]):
+        at = [_weights_at(x, p + k * eps, length) for k in (-2, -1, 0, 1, 2)]
+        left = (3.0 * at[2] - 4.0 * at[1] + at[0]) / (2.0 * eps)
+        right = (-3.0 * at[2] + 4.0 * at[3] - at[4]) / (2.0 * eps)
+        assert np.max(np.abs(left - right)) < 1e-5 / length
+    # the linear blend of the filtered stations (the first form) has slope jumps there
+    w_mid = np.array(
+        [[reference[i].get(j, 0.0) for j in range(x.size)] for i in range(x.size)]
+    )
+    i = 10
+    left = (w_mid[i] - w_mid[i - 1]) / (x[i] - x[i - 1])
+    right = (w_mid[i + 1] - w_mid[i]) / (x[i + 1] - x[i])
+    assert np.max(np.abs(left - right)) > 1.0 / length
+
+
+def test_filter_windows_of_a_uniform_grid():
+    """The stations an interval's filter reads: 10 mm stations and a 12 mm box reach one
+    station beyond each end of the interval (``x_i - 6 mm`` lies in the interval before),
+    50 mm stations the same (the box's halves shorter than a step); no filter: the pair."""
+    x = 0.01 * np.arange(8)
+    w = filter_windows(x, 0.012)
+    assert w[3].tolist() == [2, 5] and w[0].tolist() == [0, 2] and w[-1].tolist() == [6, 7]
+    assert filter_windows(0.05 * np.arange(8), 0.012)[3].tolist() == [2, 5]
+    assert filter_windows(x, 0.0)[3].tolist() == [3, 4]
+    assert filter_windows(0.005 * np.arange(8), 0.012)[3].tolist() == [1, 6]
