@@ -302,9 +302,7 @@ def test_filter_at_the_wheel_against_the_stations_closed_form():
         right = (-3.0 * at[2] + 4.0 * at[3] - at[4]) / (2.0 * eps)
         assert np.max(np.abs(left - right)) < 1e-5 / length
     # the linear blend of the filtered stations (the first form) has slope jumps there
-    w_mid = np.array(
-        [[reference[i].get(j, 0.0) for j in range(x.size)] for i in range(x.size)]
-    )
+    w_mid = np.array([[reference[i].get(j, 0.0) for j in range(x.size)] for i in range(x.size)])
     i = 10
     left = (w_mid[i] - w_mid[i - 1]) / (x[i] - x[i - 1])
     right = (w_mid[i + 1] - w_mid[i]) / (x[i + 1] - x[i])

@@ -446,8 +446,8 @@ def _filter_station(d, w, i, s, side):
     piecewise-linear interpolant, ``sum_j w_j(s) station_j`` (:func:`filter_weight`: a convex
     combination, C1 in ``s``). The bound columns (row ``i``'s: the envelope of the stations
     ``d.sc_window[i]`` that any ``s`` of the interval reads) are copied when ``i`` changes, the
-    base columns combined when ``s`` does, only the stations whose hat meets the box, one row
-    copied when they all read it (the plain rail between a turnout's panels: to the last bit)."""
+    base columns combined when ``s`` does, only the stations whose hat meets the box and whose
+    row is not the first one's (the plain rail between a turnout's panels: to the last bit)."""
     j_side = d.sc_side[side]
     out = d.sc_cache[w, j_side]
     if d.sc_key[w, side] != i:
@@ -468,26 +468,23 @@ def _filter_station(d, w, i, s, side):
         lo += 1
     while hi > lo and x[hi - 1] >= s + 0.5 * length:
         hi -= 1
-    same = True
+    # station lo's table plus the weighted differences of the others' (the weights sum to 1):
+    # stations with station lo's table add nothing, so the plain rail is kept to the last bit
+    # and a store with shared rows gives the same numbers as one row per station
+    row_lo = d.sc_index[lo, side]
+    a = d.sc_base[row_lo]
+    for r in range(out.shape[0]):
+        for c in range(K.T_SLOPE_MAX):
+            out[r, c] = a[r, c]
     for j in range(lo + 1, hi + 1):
-        if d.sc_index[j, side] != d.sc_index[lo, side]:
-            same = False
-    if same:
-        b = d.sc_base[d.sc_index[lo, side]]
-        for r in range(out.shape[0]):
-            for c in range(K.T_SLOPE_MAX):
-                out[r, c] = b[r, c]
-    else:
-        for r in range(out.shape[0]):
-            for c in range(K.T_SLOPE_MAX):
-                out[r, c] = 0.0
-        for j in range(lo, hi + 1):
-            wj = filter_weight(x, j, s, length)
-            if wj > 0.0:
-                b = d.sc_base[d.sc_index[j, side]]
-                for r in range(out.shape[0]):
-                    for c in range(K.T_SLOPE_MAX):
-                        out[r, c] += wj * b[r, c]
+        if d.sc_index[j, side] == row_lo:
+            continue
+        wj = filter_weight(x, j, s, length)
+        if wj > 0.0:
+            b = d.sc_base[d.sc_index[j, side]]
+            for r in range(out.shape[0]):
+                for c in range(K.T_SLOPE_MAX):
+                    out[r, c] += wj * (b[r, c] - a[r, c])
     d.sc_t[w, side] = s
 
 
