@@ -473,18 +473,50 @@ def _filter_station(d, w, i, s, side):
     # and a store with shared rows gives the same numbers as one row per station
     row_lo = d.sc_index[lo, side]
     a = d.sc_base[row_lo]
-    for r in range(out.shape[0]):
-        for c in range(K.T_SLOPE_MAX):
-            out[r, c] = a[r, c]
+    base = d.sc_base
+    # up to four other stations in one pass over the rows (10 mm stations and a 12 mm box: at
+    # most three), the same sums in the same order as one pass per station (beyond four)
+    n_other = 0
+    r1 = r2 = r3 = r4 = row_lo
+    w1 = w2 = w3 = w4 = 0.0
     for j in range(lo + 1, hi + 1):
-        if d.sc_index[j, side] == row_lo:
+        row = d.sc_index[j, side]
+        if row == row_lo:
             continue
         wj = filter_weight(x, j, s, length)
         if wj > 0.0:
-            b = d.sc_base[d.sc_index[j, side]]
-            for r in range(out.shape[0]):
-                for c in range(K.T_SLOPE_MAX):
-                    out[r, c] += wj * (b[r, c] - a[r, c])
+            if n_other == 0:
+                r1, w1 = row, wj
+            elif n_other == 1:
+                r2, w2 = row, wj
+            elif n_other == 2:
+                r3, w3 = row, wj
+            elif n_other == 3:
+                r4, w4 = row, wj
+            n_other += 1
+    if n_other <= 4:
+        rows = (r1, r2, r3, r4)
+        weights = (w1, w2, w3, w4)
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                v = a[r, c]
+                acc = v
+                for k in range(n_other):
+                    acc += weights[k] * (base[rows[k], r, c] - v)
+                out[r, c] = acc
+    else:
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                out[r, c] = a[r, c]
+        for j in range(lo + 1, hi + 1):
+            if d.sc_index[j, side] == row_lo:
+                continue
+            wj = filter_weight(x, j, s, length)
+            if wj > 0.0:
+                b = base[d.sc_index[j, side]]
+                for r in range(out.shape[0]):
+                    for c in range(K.T_SLOPE_MAX):
+                        out[r, c] += wj * (b[r, c] - a[r, c])
     d.sc_t[w, side] = s
 
 
