@@ -28,11 +28,15 @@ References outside the code under test:
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numba
 import numpy as np
 import pytest
 
 from railexu.contact import kernel as K
 from railexu.errors import InputError
+from railexu.model import forces
 from railexu.model.forces import filter_weight
 from railexu.model.sc_filter import filter_weights, filtered_index, filtered_tables
 from railexu.model.sc_tables import filter_windows
@@ -177,20 +181,19 @@ def test_uniform_zone_filtered_is_the_plain_zone():
         assert np.max(np.abs(ta[ok] - tb[ok])) < 1e-9 * max(1.0, np.max(np.abs(ta[ok])))
 
 
-def _ramp_zone_heights(
-    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False
-):
-    """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
-    rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
-    slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
-    (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
-    0.02-0.13 m and the table's height at the rail's top there minus the plain rail's [m]:
-    the contact filter at ``s`` (:func:`railexu.model.forces.filter_weight`, the default) or,
-    ``at_stations``, the filtered stations blended linearly (the first form)."""
+_RAMP_START_M = 5.0
+
+
+def _ramp_zone_fields(
+    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False,
+    own: bool = False,
+):  # fmt: skip
+    """The kernel fields of :func:`_ramp_zone_heights`' zone (``own``: and each station's own
+    table, ``(n_stations, M, C)``, as computed before the store's bounds envelope others)."""
     from pathlib import Path
 
     from railexu.model.assembly import wheelset_geometry
-    from railexu.model.sc_tables import sc_kernel_fields
+    from railexu.model.sc_tables import sc_kernel_fields, station_table_set
     from railexu.profiles import rail_profile
     from railexu.profiles.variable import VariableProfile
     from railexu.profiles.variable.slices import ProfileSlices
@@ -207,15 +210,36 @@ def _ramp_zone_heights(
         ProfileSlices("ramp", np.array([0.0, 0.05, 0.1, 0.15]), (flat, flat, raised, raised),
                       None, (None,) * 4, ("60E1",))
     )  # fmt: skip
-    rails = VariableRails(left=profile, start_m=5.0, station_step_m=step_m, x_max_m=0.0,
+    rails = VariableRails(left=profile, start_m=_RAMP_START_M, station_step_m=step_m, x_max_m=0.0,
                           contact_filter_m=filter_m)  # fmt: skip
     geometry = wheelset_geometry(vehicle.wheelsets[0], track)
-    f = sc_kernel_fields(
+    fields = sc_kernel_fields(
         rails, geometry, vehicle.contact.curvature_smoothing_m, filter_at_stations=at_stations
     )
+    if not own:
+        return fields
+    tables, index, _ = station_table_set(
+        profile, geometry.pairs[0], rails.stations_m() - rails.start_m, x_max_m=0.0,
+        curvature_smoothing_m=vehicle.contact.curvature_smoothing_m,
+    )  # fmt: skip
+    distinct = dict(tables)
+    return fields, np.stack([distinct[int(t)] for t in index])
+
+
+def _ramp_zone_heights(
+    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False
+):
+    """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
+    rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
+    slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
+    (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
+    0.02-0.13 m and the table's height at the rail's top there minus the plain rail's [m]:
+    the contact filter at ``s`` (:func:`railexu.model.forces.filter_weight`, the default) or,
+    ``at_stations``, the filtered stations blended linearly (the first form)."""
+    f = _ramp_zone_fields(step_m, filter_m, rise_m, at_stations)
     heights = f["sc_tab"][f["sc_index"][:, 0]][:, :, 0]
     row = int(np.nanargmax(heights[0]))  # the rail's top
-    x = f["sc_stations"] - rails.start_m
+    x = f["sc_stations"] - _RAMP_START_M
     s = np.linspace(0.02, 0.13, 2201)
     top = heights[:, row] - heights[0, row]
     if f["sc_filter"] == 0.0:
@@ -319,3 +343,58 @@ def test_filter_windows_of_a_uniform_grid():
     assert filter_windows(0.05 * np.arange(8), 0.012)[3].tolist() == [2, 5]
     assert filter_windows(x, 0.0)[3].tolist() == [3, 4]
     assert filter_windows(0.005 * np.arange(8), 0.012)[3].tolist() == [1, 6]
+
+
+class _Zone(NamedTuple):
+    """What :func:`railexu.model.forces._filter_station` reads."""
+
+    sc_stations: np.ndarray
+    sc_index: np.ndarray
+    sc_side: np.ndarray
+    sc_tab: np.ndarray
+    sc_base: np.ndarray
+    sc_cache: np.ndarray
+    sc_key: np.ndarray
+    sc_t: np.ndarray
+    sc_filter: float
+    sc_window: np.ndarray
+
+
+#: Compiled here without numba's cache (as tests/test_sc_stations.py: a cached overload for this
+#: module's type could not be loaded by other processes).
+_filter_station = numba.njit(**{k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"})(
+    forces._filter_station.py_func
+)
+
+
+def test_kernel_filter_is_the_weighted_store_with_enveloping_bounds():
+    """The compiled filter at the wheelset (``forces._filter_station``) on a zone's store
+    (the ruled 30 mrad ramp of slices, 4 mm stations, the 12 mm filter): its base columns are
+    ``sum_j w_j(s)`` of the stations' tables within 1e-12 of the columns' scale (summation
+    order), at 300 positions across the zone and at every station; its bound columns are row
+    ``i``'s, which envelope every station of the interval's window (largest |slope|, largest
+    curvature and change at least theirs, smallest curvature at most): valid for any convex
+    combination the interval reads, so the kernel's search is exact with them."""
+    fields, station = _ramp_zone_fields(0.004, 0.012, own=True)
+    assert fields["sc_filter"] == 0.012
+    d = _Zone(**{k: fields[k] for k in _Zone._fields})
+    x = d.sc_stations
+    first = K.T_SLOPE_MAX
+    store = fields["sc_tab"][fields["sc_index"][:, 0]]  # the row each station reads
+    assert np.array_equal(store[:, :, :first], station[:, :, :first])  # its own base columns
+    maxs = [c for c in range(first, station.shape[2]) if (c - first) % 4 != 1]
+    mins = [c for c in range(first, station.shape[2]) if (c - first) % 4 == 1]
+    points = np.concatenate([np.linspace(x[0], x[-1], 300), x])
+    for s in points:
+        i = min(int(np.searchsorted(x, s, side="right")) - 1, x.size - 2)
+        _filter_station(d, 0, i, float(s), 0)
+        got = d.sc_cache[0, 0]
+        w = np.array([filter_weight(x, j, float(s), 0.012) for j in range(x.size)])
+        expected = np.tensordot(w, station[:, :, :first], axes=1)
+        scale = np.max(np.abs(station[:, :, :first]), axis=(0, 1))
+        assert np.all(np.abs(got[:, :first] - expected) <= 1e-12 * scale)
+        assert np.array_equal(got[:, first:], fields["sc_tab"][fields["sc_index"][i, 0], :, first:])
+        lo, hi = fields["sc_window"][i]
+        window = station[lo : hi + 1]
+        assert np.all(got[:, maxs] >= window[:, :, maxs].max(axis=0))
+        assert np.all(got[:, mins] <= window[:, :, mins].min(axis=0))
