@@ -6,9 +6,11 @@ union of uniform grids of parts with their own step) cover the zone; each side w
 profile gets the kernel table of its effective section at every station
 (:func:`railexu.contact.variable_tables.station_tables`, placed on that side's rail like the
 track's rail profile). :mod:`railexu.model.forces` blends the two stations around a wheelset
-linearly. The effective section depends on the wheel's radius: the first wheelset's wheels are
-used for all (a vehicle's wheels usually share profile and radius). Memory: ``n_distinct x rows
-x columns x 8`` bytes, one row per station and side whose table (with its neighbour's bounds) is
+linearly or, with the contact filter, combines the stations the filter's box at the wheelset
+reads (:mod:`railexu.model.sc_filter`). The effective section depends on the wheel's radius:
+the first wheelset's wheels are used for all (a vehicle's wheels usually share profile and
+radius). Memory: ``n_distinct x rows x columns x 8`` bytes, one row per station and side whose
+table (with its neighbours' bounds) is
 not another's: the plain rail between a turnout's panels is one row (a 0.6 m zone at 10 mm with
 a 150 mm wide crossing: ~ 40 MB).
 """
