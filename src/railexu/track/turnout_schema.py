@@ -33,7 +33,7 @@ TURNOUT = Schema(
         Field("switch_station_step", "the stations' distance over the switch panel's slices "
               "(default: station_step)", unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
         Field("crossing_station_step", "the stations' distance over the crossing panel's slices "
-              "(wing rail, nose, check rail; default: 10 mm, or station_step if finer: "
+              "(wing rail, nose, check rail; default: 5 mm, or station_step if finer: "
               "railexu.track.variable_rails.FILE_CROSSING_STATION_STEP_M, fine enough for the "
               "contact filter): finer stations where the rails move laterally fastest",
               unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
