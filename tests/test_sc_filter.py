@@ -23,7 +23,14 @@ References outside the code under test:
   step^2``); unfiltered with the kinks on stations, the ramp itself within 10 nm;
 - a window of one table (a uniform zone, the plain rail between panels) keeps that table to the
   last bit; a filtered table's base columns are the weights' combination and its bound columns
-  the envelope (a bound of a convex combination).
+  the envelope (a bound of a convex combination);
+- the filter at the wheelset (the default since hG, ``forces.filter_weight``,
+  ``forces._filter_station``): the box of the piecewise-linear interpolant centred on any ``s``
+  has the weights ``(1/L) int phi_j`` in closed form (the hat functions' integrals): at a
+  station the station's filtered weights above; non-negative, summing to 1, a line reproduced
+  (the box a linear functional), continuous derivatives in ``s`` (C1: the slope
+  ``(PL(s + L/2) - PL(s - L/2)) / L``), where the first form's linear blend jumps; through the
+  table pipeline the same ramp's box average as the first form, within the same bound.
 """
 
 from __future__ import annotations
