@@ -39,9 +39,9 @@ TURNOUT = Schema(
               unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
         Field("contact_filter", "the station tables averaged along the track over this length "
               "(a contact patch's, railexu's assumption; 0: not filtered; default: 12 mm, "
-              "railexu.track.variable_rails.FILE_CONTACT_FILTER_M: the crossing's peaks "
-              "converge with 10 mm stations or finer)", unit="m", default=OPTIONAL,
-              minimum=0.0, maximum=0.1),
+              "railexu.track.variable_rails.FILE_CONTACT_FILTER_M, applied at the wheelset: "
+              "the crossing's peaks converge with 5 mm stations or finer)", unit="m",
+              default=OPTIONAL, minimum=0.0, maximum=0.1),
     ),
     "A turnout as the track: its route and direction (docs/switches-and-crossings.md, "
     "'The turnout'). Generates `geometry` and `variable_rails`: give neither with it.",
