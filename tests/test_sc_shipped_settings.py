@@ -86,7 +86,8 @@ def test_the_docs_state_the_shipped_setting():
     """The runs table's text names the stations and the filter the shipped tracks carry."""
     docs = Path(__file__).resolve().parents[1] / "docs" / "switches-and-crossings.md"
     text = " ".join(docs.read_text().split())
-    assert "**10 mm over the crossing panel, with the 12 mm contact filter**" in text
+    assert "**5 mm over the crossing panel, with the 12 mm contact filter at the wheelset**" in text
+    assert "**0.2 ms step with every step recorded**" in text
     assert "a track file's zone and a turnout: 12 mm unless set" in text
 
 
