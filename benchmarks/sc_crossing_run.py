@@ -32,11 +32,13 @@ from __future__ import annotations
 import sys
 import time
 from dataclasses import replace
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from railexu.contact import kernel as K
+from railexu.model import forces
 from railexu.model.assembly import wheelset_geometry
 from railexu.model.sc_tables import sc_kernel_fields
 from railexu.results.run import RunSettings, run
@@ -157,6 +159,71 @@ def blend_costs(fields: dict, n: int = 2000) -> None:
                   f"{new[3] * 1e6:6.2f} us")  # fmt: skip
 
 
+class _Zone(NamedTuple):
+    """What model/forces.py's ``_blend_station`` and ``_filter_station`` read."""
+
+    sc_stations: np.ndarray
+    sc_index: np.ndarray
+    sc_side: np.ndarray
+    sc_tab: np.ndarray
+    sc_base: np.ndarray
+    sc_cache: np.ndarray
+    sc_key: np.ndarray
+    sc_t: np.ndarray
+    sc_filter: float
+    sc_window: np.ndarray
+
+
+_FLAGS = {k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"}
+_blend_station = numba.njit(**_FLAGS)(forces._blend_station.py_func)
+_filter_station = numba.njit(**_FLAGS)(forces._filter_station.py_func)
+
+
+@numba.njit(cache=False)
+def _loop_zone(n, d, i, s, t, side, mode, box):
+    """``n`` calls of the linear blend (``box`` False) or the contact filter at the wheel:
+    mode 0 one position, 1 a new position each call, 2 a new interval each call."""
+    x = d.sc_stations
+    for k in range(n):
+        ii, ss, tt = i, s, t
+        if mode >= 1:
+            ss = s + 1e-9 * (k % 2)
+            tt = t + 1e-9 * (k % 2)
+        if mode == 2:
+            ii = i + (k % 2)
+            ss = x[ii] + t * (x[ii + 1] - x[ii])
+        if box:
+            _filter_station(d, 0, ii, ss, side)
+        else:
+            _blend_station(d, 0, ii, tt, side)
+    return d.sc_cache[0, 0, 0, 0]
+
+
+def filter_costs(fields: dict, n: int = 2000) -> None:
+    """Per call and side, the store's blend as the kernel does it: the linear blend of two
+    stations (``contact_filter_m = 0``, or the filter at the stations: its first form) against
+    the contact filter at the wheelset's position (``sc_filter > 0``: 3-4 stations at 10 mm,
+    4-5 at 5 mm), at one position, a new position, a new interval every call."""
+    d = _Zone(**{k: fields[k] for k in _Zone._fields})
+    x = d.sc_stations
+    i = int(np.searchsorted(x, 0.5 * (x[0] + x[-1])))  # the zone's middle (the crossing)
+    for t in (0.5, 0.05):
+        s = x[i] + t * (x[i + 1] - x[i])
+        for side in [k for k in range(2) if d.sc_side[k] >= 0]:
+            out = []
+            for box in (False, True):
+                for mode in (0, 1, 2):
+                    d.sc_key[:] = -1
+                    _loop_zone(2, d, i, s, t, side, mode, box)
+                    out.append(
+                        _best(lambda m=mode, b=box: _loop_zone(n, d, i, s, t, side, m, b)) / n  # noqa: B023
+                    )  # fmt: skip
+            print(f"  side {side} at t = {t}: linear blend {out[0] * 1e6:.3f} / "
+                  f"{out[1] * 1e6:.2f} / {out[2] * 1e6:.2f} us, filter at the wheel "
+                  f"{out[3] * 1e6:.3f} / {out[4] * 1e6:.2f} / {out[5] * 1e6:.2f} us "
+                  "(same position / new position / new interval)")  # fmt: skip
+
+
 def run_costs(distance_m: float = 2.0) -> None:
     """The wheelset over the crossing against plain track: build and integration wall times."""
     vehicle = load_vehicle("wheelset")
@@ -189,6 +256,9 @@ def main() -> None:
     fields = sc_kernel_fields(track.variable_rails, geometry, 5.0e-4)
     print(f"building the shipped crossing's station tables: {time.perf_counter() - t0:.1f} s")
     blend_costs(fields)
+    print(f"the blend and the contact filter at the wheel per call (filter "
+          f"{fields['sc_filter']} m, {fields['sc_stations'].size} stations)")  # fmt: skip
+    filter_costs(fields)
     del fields
     if "--blend-only" in sys.argv[1:]:
         return

@@ -9,7 +9,9 @@ under ``/usr/bin/time -v`` for the peak resident memory:
 
 Arguments: the track name (default ``uk_crossing_facing``), ``--set KEY=VALUE`` overrides of
 the track file (e.g. ``variable_rails.station_step=10 mm``); ``--digest`` prints a digest of
-the store (two versions that build the same store to the last bit print the same).
+the store (two versions that build the same store to the last bit print the same);
+``--filter-at-stations``: the contact filter's first form (each station's table filtered at the
+build) instead of the filter at the wheelset's position.
 """
 
 from __future__ import annotations
@@ -29,11 +31,15 @@ def main() -> None:
     ap.add_argument("track", nargs="?", default="uk_crossing_facing")
     ap.add_argument("--set", action="append", default=[], help="track override KEY=VALUE")
     ap.add_argument("--digest", action="store_true", help="print a digest of the store's bytes")
+    ap.add_argument("--filter-at-stations", action="store_true",
+                    help="the contact filter's first form (filtered station tables)")  # fmt: skip
     a = ap.parse_args()
     track = load_track(a.track, a.set or None)
     geometry = wheelset_geometry(load_vehicle("wheelset").wheelsets[0], track)
     wall, cpu = time.perf_counter(), time.process_time()
-    fields = sc_kernel_fields(track.variable_rails, geometry, 5.0e-4)
+    fields = sc_kernel_fields(
+        track.variable_rails, geometry, 5.0e-4, filter_at_stations=a.filter_at_stations
+    )
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     tab = fields["sc_tab"]
     print(

@@ -23,17 +23,30 @@ References outside the code under test:
   step^2``); unfiltered with the kinks on stations, the ramp itself within 10 nm;
 - a window of one table (a uniform zone, the plain rail between panels) keeps that table to the
   last bit; a filtered table's base columns are the weights' combination and its bound columns
-  the envelope (a bound of a convex combination).
+  the envelope (a bound of a convex combination);
+- the filter at the wheelset (the default since hG, ``forces.filter_weight``,
+  ``forces._filter_station``): the box of the piecewise-linear interpolant centred on any ``s``
+  has the weights ``(1/L) int phi_j`` in closed form (the hat functions' integrals): at a
+  station the station's filtered weights above; non-negative, summing to 1, a line reproduced
+  (the box a linear functional), continuous derivatives in ``s`` (C1: the slope
+  ``(PL(s + L/2) - PL(s - L/2)) / L``), where the first form's linear blend jumps; through the
+  table pipeline the same ramp's box average as the first form, within the same bound.
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numba
 import numpy as np
 import pytest
 
 from railexu.contact import kernel as K
 from railexu.errors import InputError
+from railexu.model import forces
+from railexu.model.forces import filter_weight
 from railexu.model.sc_filter import filter_weights, filtered_index, filtered_tables
+from railexu.model.sc_tables import filter_windows
 from railexu.track.variable_rails import VariableRails
 
 
@@ -175,17 +188,19 @@ def test_uniform_zone_filtered_is_the_plain_zone():
         assert np.max(np.abs(ta[ok] - tb[ok])) < 1e-9 * max(1.0, np.max(np.abs(ta[ok])))
 
 
-def _ramp_zone_heights(step_m: float, filter_m: float, rise_m: float = 0.0015):
-    """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
-    rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
-    slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
-    (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
-    0.02-0.13 m and the linearly blended table's height at the rail's top there minus the
-    plain rail's [m]."""
+_RAMP_START_M = 5.0
+
+
+def _ramp_zone_fields(
+    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False,
+    own: bool = False,
+):  # fmt: skip
+    """The kernel fields of :func:`_ramp_zone_heights`' zone (``own``: and each station's own
+    table, ``(n_stations, M, C)``, as computed before the store's bounds envelope others)."""
     from pathlib import Path
 
     from railexu.model.assembly import wheelset_geometry
-    from railexu.model.sc_tables import sc_kernel_fields
+    from railexu.model.sc_tables import sc_kernel_fields, station_table_set
     from railexu.profiles import rail_profile
     from railexu.profiles.variable import VariableProfile
     from railexu.profiles.variable.slices import ProfileSlices
@@ -202,15 +217,43 @@ def _ramp_zone_heights(step_m: float, filter_m: float, rise_m: float = 0.0015):
         ProfileSlices("ramp", np.array([0.0, 0.05, 0.1, 0.15]), (flat, flat, raised, raised),
                       None, (None,) * 4, ("60E1",))
     )  # fmt: skip
-    rails = VariableRails(left=profile, start_m=5.0, station_step_m=step_m, x_max_m=0.0,
+    rails = VariableRails(left=profile, start_m=_RAMP_START_M, station_step_m=step_m, x_max_m=0.0,
                           contact_filter_m=filter_m)  # fmt: skip
     geometry = wheelset_geometry(vehicle.wheelsets[0], track)
-    f = sc_kernel_fields(rails, geometry, vehicle.contact.curvature_smoothing_m)
+    fields = sc_kernel_fields(
+        rails, geometry, vehicle.contact.curvature_smoothing_m, filter_at_stations=at_stations
+    )
+    if not own:
+        return fields
+    tables, index, _ = station_table_set(
+        profile, geometry.pairs[0], rails.stations_m() - rails.start_m, x_max_m=0.0,
+        curvature_smoothing_m=vehicle.contact.curvature_smoothing_m,
+    )  # fmt: skip
+    distinct = dict(tables)
+    return fields, np.stack([distinct[int(t)] for t in index])
+
+
+def _ramp_zone_heights(
+    step_m: float, filter_m: float, rise_m: float = 0.0015, at_stations: bool = False
+):
+    """A 0.15 m zone of the track's rail whose slices at s = 0, 0.05, 0.1, 0.15 m are the
+    rail, the rail and the rail raised by ``rise_m`` twice (the ruled surface between them:
+    slope 0, ``rise_m / 0.05``, 0: kinks at 0.05 and 0.1 m), with no effective section
+    (``x_max_m = 0``: the table is the surface itself): ``s`` [m, from the zone's start] over
+    0.02-0.13 m and the table's height at the rail's top there minus the plain rail's [m]:
+    the contact filter at ``s`` (:func:`railexu.model.forces.filter_weight`, the default) or,
+    ``at_stations``, the filtered stations blended linearly (the first form)."""
+    f = _ramp_zone_fields(step_m, filter_m, rise_m, at_stations)
     heights = f["sc_tab"][f["sc_index"][:, 0]][:, :, 0]
     row = int(np.nanargmax(heights[0]))  # the rail's top
-    x = f["sc_stations"] - rails.start_m
+    x = f["sc_stations"] - _RAMP_START_M
     s = np.linspace(0.02, 0.13, 2201)
-    return s, np.interp(s, x, heights[:, row] - heights[0, row])
+    top = heights[:, row] - heights[0, row]
+    if f["sc_filter"] == 0.0:
+        return s, np.interp(s, x, top)
+    assert f["sc_filter"] == filter_m
+    w = np.array([[filter_weight(x, j, v, filter_m) for j in range(x.size)] for v in s])
+    return s, w @ top
 
 
 def test_filtered_ramp_of_slices_converges_to_the_box_average():
@@ -225,15 +268,16 @@ def test_filtered_ramp_of_slices_converges_to_the_box_average():
     ramp = lambda u: vertical * np.clip((u - 0.05) / 0.05, 0.0, 1.0)  # noqa: E731
     u = np.linspace(-0.5, 0.5, 4001) * length
     steps = (0.004, 0.002, 0.001)
-    errors = []
-    for h in steps:
-        s, blend = _ramp_zone_heights(h, length, rise)
-        exact = np.array([np.trapezoid(ramp(v + u), u) / length for v in s])
-        errors.append(np.max(np.abs(blend - exact)))
     alpha = rise / 0.05
-    for h, e in zip(steps, errors, strict=True):
-        assert e <= 0.3 * alpha / length * h**2  # as the kink above (measured 0.16-0.25)
-    assert errors[0] / errors[2] > 8.0  # second order over two halvings
+    for at_stations in (True, False):
+        errors = []
+        for h in steps:
+            s, blend = _ramp_zone_heights(h, length, rise, at_stations)
+            exact = np.array([np.trapezoid(ramp(v + u), u) / length for v in s])
+            errors.append(np.max(np.abs(blend - exact)))
+        for h, e in zip(steps, errors, strict=True):
+            assert e <= 0.3 * alpha / length * h**2  # as the kink above (measured 0.16-0.25)
+        assert errors[0] / errors[2] > 8.0  # second order over two halvings
     s, blend = _ramp_zone_heights(0.002, 0.0, rise)
     assert np.max(np.abs(blend - ramp(s))) < 1e-8
 
@@ -248,3 +292,118 @@ def test_turnout_key_sets_the_filter_and_refuses_a_bad_length():
     assert off.variable_rails.contact_filter_m == 0.0
     with pytest.raises(InputError, match="contact_filter"):
         load_track("turnout_uk_r245_diverging_facing", ["turnout.contact_filter=-1 mm"])
+
+
+def _weights_at(x: np.ndarray, s: float, length: float) -> np.ndarray:
+    return np.array([filter_weight(x, j, s, length) for j in range(x.size)])
+
+
+def test_filter_at_the_wheel_against_the_stations_closed_form():
+    """The contact filter at the wheelset's position (:func:`forces.filter_weight`, the
+    kernel's): at a station the same weights as the station's filtered table
+    (:func:`filter_weights`, the trapezoid rule) within 1e-14; everywhere non-negative, summing
+    to 1 within 1e-14, a line reproduced within 1e-14 away from the zone's ends (the filter's
+    box a linear functional), inside the interval's window (:func:`filter_windows`); C1 along
+    the track: the one-sided derivatives of every weight at each station and at each
+    ``station +- L/2`` (where the box's ends cross a station) agree within 1e-5 of ``1/L``,
+    where the linear blend of the filtered stations (the first form) jumps by more than
+    ``1/L``; random stations 4-30 mm apart."""
+    rng = np.random.default_rng(7)
+    x = np.cumsum(np.r_[0.0, rng.uniform(0.004, 0.03, 25)])
+    length = 0.012
+    reference = filter_weights(x, length)
+    for i in range(x.size):
+        expected = np.zeros(x.size)
+        for j, v in reference[i].items():
+            expected[j] = v
+        assert np.max(np.abs(_weights_at(x, x[i], length) - expected)) < 1e-14
+    windows = filter_windows(x, length)
+    for s in np.linspace(x[0], x[-1], 1501):
+        w = _weights_at(x, s, length)
+        assert w.min() >= 0.0 and abs(w.sum() - 1.0) < 1e-14
+        i = min(int(np.searchsorted(x, s, side="right")) - 1, x.size - 2)
+        nonzero = np.nonzero(w)[0]
+        assert windows[i, 0] <= nonzero.min() and nonzero.max() <= windows[i, 1]
+        if x[0] + length / 2 <= s <= x[-1] - length / 2:
+            assert abs(w @ (3.0 * x - 0.2) - (3.0 * s - 0.2)) < 1e-14
+    eps = 1e-6  # one-sided second-order differences: exact on the weights' quadratic pieces
+    for p in np.concatenate([x[2:-2], x[2:-2] + length / 2, x[2:-2] - length / 2]):
+        at = [_weights_at(x, p + k * eps, length) for k in (-2, -1, 0, 1, 2)]
+        left = (3.0 * at[2] - 4.0 * at[1] + at[0]) / (2.0 * eps)
+        right = (-3.0 * at[2] + 4.0 * at[3] - at[4]) / (2.0 * eps)
+        assert np.max(np.abs(left - right)) < 1e-5 / length
+    # the linear blend of the filtered stations (the first form) has slope jumps there
+    w_mid = np.array([[reference[i].get(j, 0.0) for j in range(x.size)] for i in range(x.size)])
+    i = 10
+    left = (w_mid[i] - w_mid[i - 1]) / (x[i] - x[i - 1])
+    right = (w_mid[i + 1] - w_mid[i]) / (x[i + 1] - x[i])
+    assert np.max(np.abs(left - right)) > 1.0 / length
+
+
+def test_filter_windows_of_a_uniform_grid():
+    """The stations an interval's filter reads: 10 mm stations and a 12 mm box reach one
+    station beyond each end of the interval (``x_i - 6 mm`` lies in the interval before),
+    50 mm stations the same (the box's halves shorter than a step); no filter: the pair."""
+    x = 0.01 * np.arange(8)
+    w = filter_windows(x, 0.012)
+    assert w[3].tolist() == [2, 5] and w[0].tolist() == [0, 2] and w[-1].tolist() == [6, 7]
+    assert filter_windows(0.05 * np.arange(8), 0.012)[3].tolist() == [2, 5]
+    assert filter_windows(x, 0.0)[3].tolist() == [3, 4]
+    assert filter_windows(0.005 * np.arange(8), 0.012)[3].tolist() == [1, 6]
+
+
+class _Zone(NamedTuple):
+    """What :func:`railexu.model.forces._filter_station` reads."""
+
+    sc_stations: np.ndarray
+    sc_index: np.ndarray
+    sc_side: np.ndarray
+    sc_tab: np.ndarray
+    sc_base: np.ndarray
+    sc_cache: np.ndarray
+    sc_key: np.ndarray
+    sc_t: np.ndarray
+    sc_filter: float
+    sc_window: np.ndarray
+
+
+#: Compiled here without numba's cache (as tests/test_sc_stations.py: a cached overload for this
+#: module's type could not be loaded by other processes).
+_filter_station = numba.njit(**{k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"})(
+    forces._filter_station.py_func
+)
+
+
+def test_kernel_filter_is_the_weighted_store_with_enveloping_bounds():
+    """The compiled filter at the wheelset (``forces._filter_station``) on a zone's store
+    (the ruled 30 mrad ramp of slices, 4 mm stations, the 12 mm filter): its base columns are
+    ``sum_j w_j(s)`` of the stations' tables within 1e-12 of the columns' scale (summation
+    order), at 300 positions across the zone and at every station; the bound columns the kernel
+    reads are row ``i``'s of the store (not copied into the cache), which envelope every
+    station of the interval's window (largest |slope|, largest curvature and change at least
+    theirs, smallest curvature at most): valid for any convex combination the interval reads,
+    so the kernel's search is exact with them."""
+    fields, station = _ramp_zone_fields(0.004, 0.012, own=True)
+    assert fields["sc_filter"] == 0.012
+    d = _Zone(**{k: fields[k] for k in _Zone._fields})
+    x = d.sc_stations
+    first = K.T_SLOPE_MAX
+    store = fields["sc_tab"][fields["sc_index"][:, 0]]  # the row each station reads
+    assert np.array_equal(store[:, :, :first], station[:, :, :first])  # its own base columns
+    maxs = [c for c in range(first, station.shape[2]) if (c - first) % 4 != 1]
+    mins = [c for c in range(first, station.shape[2]) if (c - first) % 4 == 1]
+    points = np.concatenate([np.linspace(x[0], x[-1], 300), x])
+    for s in points:
+        i = min(int(np.searchsorted(x, s, side="right")) - 1, x.size - 2)
+        _filter_station(d, 0, i, float(s), 0)
+        got = d.sc_cache[0, 0]
+        w = np.array([filter_weight(x, j, float(s), 0.012) for j in range(x.size)])
+        expected = np.tensordot(w, station[:, :, :first], axes=1)
+        scale = np.max(np.abs(station[:, :, :first]), axis=(0, 1))
+        assert np.all(np.abs(got[:, :first] - expected) <= 1e-12 * scale)
+        assert got.shape[1] == first  # the cache holds the base columns only
+        bounds = fields["sc_tab"][fields["sc_index"][i, 0]]  # the kernel reads row i's
+        lo, hi = fields["sc_window"][i]
+        window = station[lo : hi + 1]
+        assert np.all(bounds[:, maxs] >= window[:, :, maxs].max(axis=0))
+        assert np.all(bounds[:, mins] <= window[:, :, mins].min(axis=0))

@@ -1,15 +1,18 @@
 """The shipped S&C tracks carry the converged setting the docs state (issue 29).
 
 docs/switches-and-crossings.md ("In the dynamic model", the turnout's "Runs" and "Cost"): with
-the 12 mm contact filter and crossing stations of 10 mm or less the crossing's peaks converge
-with the station step (the loaded Hbbins' wing rail 221.3 / 224.8 / 223.9 kN at 10 / 5 / 2.5
-mm), unfiltered 20 mm stations do not (243 / 224 / 246 kN at 20 / 10 / 5 mm). The shipped
-turnouts and crossing tracks therefore set ``contact_filter: 12 mm`` and 10 mm crossing
-stations (the switch panel and the plain rail keep the design's 50 mm), and a track file's
-zone or turnout that does not set them gets the same (railexu's assumption,
-``railexu.track.variable_rails.FILE_CONTACT_FILTER_M``, ``FILE_CROSSING_STATION_STEP_M``); a
-zone built from Python states its own filter (default 0). Cheap: the files are read, no table
-is built.
+the 12 mm contact filter applied at the wheelset's position and crossing stations of 5 mm the
+crossing's named windows are within 1 % of their 2.5 mm values (the diverging route trailing's
+0-1 m window: the empty Hbbins 218.4 / 224.2 / 226.2 kN at 10 / 5 / 2.5 mm, 0.2 ms); the
+filter's first form, filtered stations blended linearly, left them 9 % low at 10 mm and 2.4 %
+at 5 mm; unfiltered 20 mm stations do not converge (243 / 224 / 246 kN at 20 / 10 / 5 mm, the
+loaded Hbbins' wing rail). The shipped turnouts and crossing tracks therefore set
+``contact_filter: 12 mm`` and 5 mm crossing stations (the switch panel and the plain rail keep
+the design's 50 mm), a track file's zone or turnout that does not set them gets the same
+(railexu's assumption, ``railexu.track.variable_rails.FILE_CONTACT_FILTER_M``,
+``FILE_CROSSING_STATION_STEP_M``), and the kernel fields apply the filter at the wheelset
+unless asked for the first form; a zone built from Python states its own filter (default 0).
+Cheap: the files are read, no table is built.
 """
 
 from __future__ import annotations
@@ -34,24 +37,24 @@ CROSSINGS = ["uk_crossing_facing", "uk_crossing_trailing"]
 
 def test_the_file_defaults_are_the_documented_ones():
     assert FILE_CONTACT_FILTER_M == 0.012  # the Hertz patch's box: L^2 / 12 = a^2 / 5, a 7.7 mm
-    assert FILE_CROSSING_STATION_STEP_M == 0.010  # finer than the filter (docs: where converged)
+    assert FILE_CROSSING_STATION_STEP_M == 0.005  # L / 2 (docs: where converged, within 1 %)
     assert DEFAULT_CONTACT_FILTER_M == 0.0  # a zone built in code states its filter
 
 
 @pytest.mark.parametrize("name", TURNOUTS)
-def test_shipped_turnout_sets_the_filter_and_10_mm_crossing_stations(name):
+def test_shipped_turnout_sets_the_filter_and_5_mm_crossing_stations(name):
     raw = load_yaml(find_input("track", name))[0]["turnout"]
-    assert raw["contact_filter"] == "12 mm" and raw["crossing_station_step"] == "10 mm"
+    assert raw["contact_filter"] == "12 mm" and raw["crossing_station_step"] == "5 mm"
     assert "station_step" not in raw and "switch_station_step" not in raw  # the design's 50 mm
 
 
 @pytest.mark.parametrize("name", CROSSINGS)
-def test_shipped_crossing_has_the_filter_and_10_mm_stations(name):
+def test_shipped_crossing_has_the_filter_and_5_mm_stations(name):
     raw = load_yaml(find_input("track", name))[0]["variable_rails"]
-    assert raw["contact_filter"] == "12 mm" and raw["station_step"] == "10 mm"
+    assert raw["contact_filter"] == "12 mm" and raw["station_step"] == "5 mm"
     zone = load_track(name).variable_rails
     assert zone.contact_filter_m == pytest.approx(0.012)
-    assert zone.station_step_m == pytest.approx(0.010) and zone.uniform
+    assert zone.station_step_m == pytest.approx(0.005) and zone.uniform
 
 
 def _without(name: str, section: str, keys: tuple[str, ...]):
@@ -67,7 +70,7 @@ def test_a_turnout_with_and_without_the_keys_gets_the_shipped_setting():
     assert shipped.contact_filter_m == pytest.approx(0.012)
     assert shipped.station_step_m == pytest.approx(0.05)  # the switch panel, the plain rail
     (part,) = shipped.station_steps_m  # the crossing panel only
-    assert part[2] == pytest.approx(0.010)
+    assert part[2] == pytest.approx(0.005)
     assert part[1] - part[0] == pytest.approx(5.69, abs=0.01)  # the check rail's 5.69 m
     zone = _without(TURNOUTS[2], "turnout", ("contact_filter", "crossing_station_step"))
     assert zone.contact_filter_m == FILE_CONTACT_FILTER_M
@@ -83,5 +86,17 @@ def test_the_docs_state_the_shipped_setting():
     """The runs table's text names the stations and the filter the shipped tracks carry."""
     docs = Path(__file__).resolve().parents[1] / "docs" / "switches-and-crossings.md"
     text = " ".join(docs.read_text().split())
-    assert "**10 mm over the crossing panel, with the 12 mm contact filter**" in text
+    assert "**5 mm over the crossing panel, with the 12 mm contact filter at the wheelset**" in text
+    assert "**0.2 ms step with every step recorded**" in text
     assert "a track file's zone and a turnout: 12 mm unless set" in text
+
+
+def test_the_kernel_applies_the_filter_at_the_wheelset_by_default():
+    """The kernel fields' default is the filter at the wheelset's position (``sc_filter``, the
+    C1 box average, :func:`railexu.model.forces.filter_weight`), not its first form."""
+    import inspect
+
+    from railexu.model.sc_tables import sc_kernel_fields
+
+    default = inspect.signature(sc_kernel_fields).parameters["filter_at_stations"].default
+    assert default is False

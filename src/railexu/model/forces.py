@@ -113,6 +113,7 @@ NO_SC_KEY = np.zeros((0, 2), dtype=np.int64)
 NO_SC_T = np.zeros((0, 2))
 NO_SC_BASE = np.zeros((0, 1, K.T_SLOPE_MAX))
 NO_SC_STATIONS = np.zeros(0)
+NO_SC_WINDOW = np.zeros((0, 2), dtype=np.int64)
 
 
 class KernelData(NamedTuple):
@@ -173,6 +174,12 @@ class KernelData(NamedTuple):
     # reads 32 bytes a row instead of a 224-byte row's first 32 (2.5x faster, model/sc_tables.py)
     sc_base: np.ndarray = NO_SC_BASE
     sc_stations: np.ndarray = NO_SC_STATIONS  # (n_stations,) their track distances [m], increasing
+    # the contact filter at the wheelset (model/sc_filter.py): its length [m]; 0: the linear
+    # blend of two stations (_blend_station). > 0: the box average of the stations'
+    # piecewise-linear interpolant over [s - L/2, s + L/2] (_filter_station), reading per
+    # interval i the stations sc_window[i, 0] .. sc_window[i, 1], whose bounds row i envelopes
+    sc_filter: float = 0.0
+    sc_window: np.ndarray = NO_SC_WINDOW  # (n_stations, 2) int64
 
 
 @numba.njit(**_JIT_NO_REFCOUNT)
@@ -401,6 +408,126 @@ def _blend_station(d, w, i, t, side):
         d.sc_t[w, side] = t
 
 
+@numba.njit(inline="always", **_JIT)
+def _hat_integral(x, j, u):
+    """``int_{x_0}^{u} phi_j`` [m] of station ``j``'s hat function on the stations ``x`` [m]
+    (``x_0 <= u <= x_{n-1}``; the first station's hat has no left half, the last's no right)."""
+    n = x.shape[0]
+    xj = x[j]
+    if j > 0:
+        left = xj - x[j - 1]
+        if u <= x[j - 1]:
+            return 0.0
+        if u <= xj:
+            return (u - x[j - 1]) ** 2 / (2.0 * left)
+        half = 0.5 * left
+    else:
+        half = 0.0
+    if j == n - 1:
+        return half
+    right = x[j + 1] - xj
+    v = min(u, x[j + 1]) - xj
+    return half + v - v * v / (2.0 * right)
+
+
+@numba.njit(**_JIT_NO_REFCOUNT)
+def filter_weight(x, j, s, length):
+    """Weight of station ``j`` in the contact filter at track distance ``s`` [m]: ``(1/L)
+    int_{s-L/2}^{s+L/2} phi_j``, ``phi_j`` the hat function of the stations ``x`` [m] (the
+    interpolant constant beyond the first and the last station), ``L = length`` [m] > 0.
+    Non-negative; the weights of all stations sum to 1 (model/sc_filter.py)."""
+    n = x.shape[0]
+    a = s - 0.5 * length
+    b = s + 0.5 * length
+    total = 0.0
+    if j == 0 and a < x[0]:  # the interpolant constant before the first station
+        total += min(b, x[0]) - a
+    if j == n - 1 and b > x[n - 1]:  # and after the last
+        total += b - max(a, x[n - 1])
+    lo = min(max(a, x[0]), x[n - 1])
+    hi = min(max(b, x[0]), x[n - 1])
+    if hi > lo:
+        total += _hat_integral(x, j, hi) - _hat_integral(x, j, lo)
+    return total / length
+
+
+@numba.njit(**_JIT_NO_REFCOUNT)
+def _filter_station(d, w, i, s, side):
+    """Make wheelset ``w``'s table of one side the contact filter at track distance ``s`` [m]
+    (interval ``i``): the box average over ``[s - L/2, s + L/2]`` of the stations'
+    piecewise-linear interpolant, ``sum_j w_j(s) station_j`` (:func:`filter_weight`: a convex
+    combination, C1 in ``s``). The base columns are combined when ``s`` changes, from the
+    stations whose hat meets the box and whose row is not the first one's (the plain rail
+    between a turnout's panels: to the last bit); the bound columns are not copied: the kernel
+    reads them from row ``i`` of the store (the envelope of the stations ``d.sc_window[i]``
+    that any ``s`` of the interval reads, :func:`railexu.model.sc_tables.filter_windows`)."""
+    out = d.sc_cache[w, d.sc_side[side]]
+    if d.sc_key[w, side] != i:
+        d.sc_key[w, side] = i
+        d.sc_t[w, side] = np.nan
+    if d.sc_t[w, side] == s:
+        return
+    x = d.sc_stations
+    length = d.sc_filter
+    lo = d.sc_window[i, 0]
+    hi = d.sc_window[i, 1]
+    # the stations whose hat meets the box: x_{j+1} > s - L/2 and x_{j-1} < s + L/2
+    while lo < hi and x[lo + 1] <= s - 0.5 * length:
+        lo += 1
+    while hi > lo and x[hi - 1] >= s + 0.5 * length:
+        hi -= 1
+    # station lo's table plus the weighted differences of the others' (the weights sum to 1):
+    # stations with station lo's table add nothing, so the plain rail is kept to the last bit
+    # and a store with shared rows gives the same numbers as one row per station
+    row_lo = d.sc_index[lo, side]
+    a = d.sc_base[row_lo]
+    base = d.sc_base
+    # up to four other stations in one pass over the rows (10 mm stations and a 12 mm box: at
+    # most three), the same sums in the same order as one pass per station (beyond four)
+    n_other = 0
+    r1 = r2 = r3 = r4 = row_lo
+    w1 = w2 = w3 = w4 = 0.0
+    for j in range(lo + 1, hi + 1):
+        row = d.sc_index[j, side]
+        if row == row_lo:
+            continue
+        wj = filter_weight(x, j, s, length)
+        if wj > 0.0:
+            if n_other == 0:
+                r1, w1 = row, wj
+            elif n_other == 1:
+                r2, w2 = row, wj
+            elif n_other == 2:
+                r3, w3 = row, wj
+            elif n_other == 3:
+                r4, w4 = row, wj
+            n_other += 1
+    if n_other <= 4:
+        rows = (r1, r2, r3, r4)
+        weights = (w1, w2, w3, w4)
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                v = a[r, c]
+                acc = v
+                for k in range(n_other):
+                    acc += weights[k] * (base[rows[k], r, c] - v)
+                out[r, c] = acc
+    else:
+        for r in range(out.shape[0]):
+            for c in range(K.T_SLOPE_MAX):
+                out[r, c] = a[r, c]
+        for j in range(lo + 1, hi + 1):
+            if d.sc_index[j, side] == row_lo:
+                continue
+            wj = filter_weight(x, j, s, length)
+            if wj > 0.0:
+                b = base[d.sc_index[j, side]]
+                for r in range(out.shape[0]):
+                    for c in range(K.T_SLOPE_MAX):
+                        out[r, c] += wj * (b[r, c] - a[r, c])
+    d.sc_t[w, side] = s
+
+
 @numba.njit(**_JIT_NO_REFCOUNT)
 def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     """Generalized contact forces of wheelset ``w`` on its 6 node coordinates into ``gen[:6]``
@@ -458,15 +585,22 @@ def _wheelset(w, q, qt, d, gen, points, ws_force, work):
     n_st = d.sc_index.shape[0]
     if n_st > 1:
         # switches and crossings: inside the zone, the stations' tables blended at the wheelset
-        i, t = _station_interval(d, d.ws_local[w, WL_S])
+        s_ws = d.ws_local[w, WL_S]
+        i, t = _station_interval(d, s_ws)
         if i >= 0:
             if d.sc_side[0] >= 0:
-                _blend_station(d, w, i, t, 0)
+                if d.sc_filter > 0.0:
+                    _filter_station(d, w, i, s_ws, 0)
+                else:
+                    _blend_station(d, w, i, t, 0)
                 rtab_l = d.sc_cache[w, d.sc_side[0]]
                 rbnd_l = d.sc_tab[d.sc_index[i, 0]]
                 rinfo_l = d.sc_info[0]
             if d.sc_side[1] >= 0:
-                _blend_station(d, w, i, t, 1)
+                if d.sc_filter > 0.0:
+                    _filter_station(d, w, i, s_ws, 1)
+                else:
+                    _blend_station(d, w, i, t, 1)
                 rtab_r = d.sc_cache[w, d.sc_side[1]]
                 rbnd_r = d.sc_tab[d.sc_index[i, 1]]
                 rinfo_r = d.sc_info[1]

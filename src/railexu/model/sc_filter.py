@@ -15,16 +15,32 @@ the turnout's "Cost").
 A real contact patch is 10-15 mm long and averages the rail's geometry over its length: the
 *contact filter* of rail roughness (Remington, J. Acoust. Soc. Am. 81 (1987) 1805-1823;
 Thompson, Railway Noise and Vibration, Elsevier 2009, sec. 5.5). railexu's assumption: the
-station tables are the effective section averaged along the track over a window of stated
-length ``L`` (``VariableRails.contact_filter_m``), a box centred on the station, of the
-piecewise-linear interpolant through the stations (constant beyond the zone's ends). Each
-filtered table is a convex combination of the stations' tables (:func:`filter_weights`), so its
-base columns (height, slope, curvatures, all linear in the surface) are the same combination and
-its curvature-bound columns the envelope of theirs (a bound of a convex combination is at most
-the combination of the bounds: :func:`railexu.model.sc_tables.pair_envelope_bounds`). With
-stations much finer than ``L`` the blend of filtered tables is the filtered surface to
-``O(step^2)``; with ``L = 0`` nothing is filtered. A window holding one table only (a uniform
-zone, the plain rail between a turnout's panels) keeps that table to the last bit.
+wheel reads the effective section averaged along the track over a window of stated length
+``L`` (``VariableRails.contact_filter_m``), a box centred on the wheelset, of the
+piecewise-linear interpolant through the stations (constant beyond the zone's ends).
+
+**At the wheelset** (the default since issue 29's hG, 2026-12-08): the kernel evaluates this
+box average at the wheelset's own position ``s``,
+``sum_j w_j(s) station_j`` with ``w_j(s) = (1/L) int_{s-L/2}^{s+L/2} phi_j``
+(:func:`railexu.model.forces.filter_weight`, ``forces._filter_station``): a convex combination
+(the bound columns of the rows enveloping each interval's stations stay valid,
+:func:`railexu.model.sc_tables.filter_windows`), C1 along the track, and nothing but the box:
+the effective filter is the ``L`` box of the stations' interpolant at every ``s``.
+
+**At the stations** (the first form, ``sc_kernel_fields(..., filter_at_stations=True)``): each
+station's table is the box average centred on the station (:func:`filter_weights`,
+:func:`filtered_index`, :func:`filtered_tables`) and the kernel blends two stations linearly.
+Each filtered table is a convex combination of the stations' tables, so its base columns
+(height, slope, curvatures, all linear in the surface) are the same combination and its
+curvature-bound columns the envelope of theirs (a bound of a convex combination is at most the
+combination of the bounds: :func:`railexu.model.sc_tables.pair_envelope_bounds`). The linear
+blend of filtered samples keeps slope jumps along the track at the stations of about ``h / L``
+of the slices' own (``h`` the station step): with ``h = 10 mm`` and ``L = 12 mm`` little is
+smoothed, and the crossing's peaks at 10 mm were 3-9 % below their 2.5 mm values (the nose, the
+diverging route trailing's 0-1 m window; docs/switches-and-crossings.md, the turnout's "Cost").
+With stations much finer than ``L`` both forms are the filtered surface to ``O(step^2)``; with
+``L = 0`` nothing is filtered. A window holding one table only (a uniform zone, the plain rail
+between a turnout's panels) keeps that table to the last bit in both.
 """
 
 from __future__ import annotations

@@ -6,9 +6,11 @@ union of uniform grids of parts with their own step) cover the zone; each side w
 profile gets the kernel table of its effective section at every station
 (:func:`railexu.contact.variable_tables.station_tables`, placed on that side's rail like the
 track's rail profile). :mod:`railexu.model.forces` blends the two stations around a wheelset
-linearly. The effective section depends on the wheel's radius: the first wheelset's wheels are
-used for all (a vehicle's wheels usually share profile and radius). Memory: ``n_distinct x rows
-x columns x 8`` bytes, one row per station and side whose table (with its neighbour's bounds) is
+linearly or, with the contact filter, combines the stations the filter's box at the wheelset
+reads (:mod:`railexu.model.sc_filter`). The effective section depends on the wheel's radius:
+the first wheelset's wheels are used for all (a vehicle's wheels usually share profile and
+radius). Memory: ``n_distinct x rows x columns x 8`` bytes, one row per station and side whose
+table (with its neighbours' bounds) is
 not another's: the plain rail between a turnout's panels is one row (a 0.6 m zone at 10 mm with
 a 150 mm wide crossing: ~ 40 MB).
 """
@@ -40,6 +42,7 @@ def sc_kernel_fields(
     *,
     share_tables: bool = True,
     share_rows: bool = True,
+    filter_at_stations: bool = False,
 ) -> dict:
     """The ``sc_*`` fields of :class:`railexu.model.forces.KernelData` (empty: no zone): the
     stations' track distances (``sc_stations``; ``sc_step`` their step if uniform, else 0), the
@@ -55,7 +58,15 @@ def sc_kernel_fields(
     Stations with the same table (the plain rail between a turnout's panels) have it computed
     once (``share_tables``, :func:`railexu.contact.variable_tables.station_table_set`) and
     share one row of ``sc_tab`` (``share_rows``); ``False`` computes, or stores, each
-    station's own (the same numbers: for checks and the benchmark's "before")."""
+    station's own (the same numbers: for checks and the benchmark's "before").
+
+    The contact filter (``rails.contact_filter_m > 0``, :mod:`railexu.model.sc_filter`) is
+    applied at the wheelset's position (``sc_filter``, ``sc_window``:
+    :func:`railexu.model.forces.filter_weight`): the stored tables are the stations' own, each
+    row's bounds enveloping the stations its interval's filter reads (:func:`filter_windows`).
+    ``filter_at_stations``: the first form instead, each station's table filtered at the build
+    and the two stations around the wheelset blended linearly (for the comparison of
+    docs/switches-and-crossings.md, the turnout's "Cost")."""
     if rails is None:
         return {}
     stations = rails.stations_m()
@@ -68,7 +79,7 @@ def sc_kernel_fields(
             x_max_m=rails.x_max_m, curvature_smoothing_m=curvature_smoothing_m,
             share_plain=share_tables,
         )  # fmt: skip
-        if rails.contact_filter_m > 0.0:  # the contact filter along the track (sc_filter)
+        if rails.contact_filter_m > 0.0 and filter_at_stations:  # sc_filter's first form
             index, keys = filtered_index(index, filter_weights(stations, rails.contact_filter_m))
             tables = _InOrder(lambda source=tables, keys=keys: filtered_tables(source, keys))
         if not share_rows:  # every station its own row
@@ -78,7 +89,9 @@ def sc_kernel_fields(
         sets.append((k, tables, index, int(info[2])))
         infos[k] = info
     rows = max(m for _, _, _, m in sets)
-    table, station_rows = envelope_rows(sets, rows, stations.size)
+    at_wheel = rails.contact_filter_m > 0.0 and not filter_at_stations
+    windows = filter_windows(stations, rails.contact_filter_m if at_wheel else 0.0)
+    table, station_rows = envelope_rows(sets, rows, stations.size, windows)
     return {
         "sc_cache": np.zeros((n_wheelsets, len(sets), rows, K.T_SLOPE_MAX)),
         "sc_key": np.full((n_wheelsets, 2), -1, dtype=np.int64),
@@ -94,7 +107,29 @@ def sc_kernel_fields(
         "sc_index": station_rows,
         "sc_side": side_index,
         "sc_info": infos,
+        # the contact filter at the wheelset's position (forces._filter_station); 0: linear
+        "sc_filter": float(rails.contact_filter_m) if at_wheel else 0.0,
+        "sc_window": windows,
     }
+
+
+def filter_windows(stations_m: np.ndarray, length_m: float) -> np.ndarray:
+    """Per interval ``i`` (``x_i <= s <= x_{i+1}``) the first and last station whose hat
+    function can meet the contact filter's box ``[s - L/2, s + L/2]``, ``L = length_m`` [m]:
+    ``(n, 2)`` int64, the last station's ``(n - 1, n - 1)``; ``L = 0``: ``(i, i + 1)``, the
+    linear blend's pair. Station ``j`` meets the box where ``x_{j+1} > s - L/2`` and
+    ``x_{j-1} < s + L/2`` (:func:`railexu.model.forces.filter_weight`)."""
+    x = np.asarray(stations_m, dtype=float)
+    n = x.size
+    i = np.arange(n)
+    nxt = np.minimum(i + 1, n - 1)
+    # the largest j with x_j <= x_i - L/2, the smallest with x_j >= x_{i+1} + L/2
+    lo = np.searchsorted(x, x - 0.5 * length_m, side="right") - 1
+    hi = np.searchsorted(x, x[nxt] + 0.5 * length_m, side="left")
+    out = np.empty((n, 2), dtype=np.int64)
+    out[:, 0] = np.clip(np.minimum(lo, i), 0, n - 1)
+    out[:, 1] = np.clip(np.maximum(hi, nxt), 0, n - 1)
+    return out
 
 
 def station_table_set(
@@ -139,13 +174,18 @@ def _per_station(tables: Iterable[tuple[int, np.ndarray]], index: np.ndarray):
             yield i, table
 
 
-def envelope_rows(sets: list[tuple], rows: int, n_stations: int) -> tuple[np.ndarray, np.ndarray]:
+def envelope_rows(
+    sets: list[tuple], rows: int, n_stations: int, windows: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The kernel's station store: ``(n_rows, rows, columns)`` tables and ``(n_stations, 2)``
     the row each station and side reads (-1: no variable profile on that side).
 
     Station ``i``'s row is its table with bound columns enveloping stations ``i`` and
     ``i + 1`` (:func:`pair_envelope_bounds`), so it depends on the pair of their distinct
-    tables only: one row per distinct pair (the plain stretch between panels: one row).
+    tables only: one row per distinct pair (the plain stretch between panels: one row). With
+    ``windows`` (:func:`filter_windows`) the bounds envelope the stations ``windows[i, 0] ..
+    windows[i, 1]`` instead, and a row is one per distinct station table and set of tables of
+    its window.
 
     Memory: the store is allocated once and each row written when both its tables have been
     computed; a table is dropped when every row that reads it is written (a station's own
@@ -163,11 +203,17 @@ def envelope_rows(sets: list[tuple], rows: int, n_stations: int) -> tuple[np.nda
         n_stations: the number of stations.
     """
     station_rows = np.full((n_stations, 2), -1, dtype=np.int64)
-    keys: list[tuple[int, int, int]] = []  # (position in sets, table i, table i + 1)
+    # (position in sets, table i, the other tables its bounds envelope)
+    keys: list[tuple[int, int, tuple[int, ...]]] = []
     for j, (side, _, index, *_) in enumerate(sets):
-        seen: dict[tuple[int, int], int] = {}
+        seen: dict[tuple, int] = {}
         for i in range(n_stations):
-            key = (int(index[i]), int(index[i + 1]) if i + 1 < n_stations else -1)
+            if windows is None:
+                others = (int(index[i + 1]),) if i + 1 < n_stations else ()
+            else:
+                lo, hi = int(windows[i, 0]), int(windows[i, 1])
+                others = tuple(sorted({int(t) for t in index[lo : hi + 1]} - {int(index[i])}))
+            key = (int(index[i]), others)
             if key not in seen:
                 seen[key] = len(keys)
                 keys.append((j, *key))
@@ -175,9 +221,9 @@ def envelope_rows(sets: list[tuple], rows: int, n_stations: int) -> tuple[np.nda
     out = np.empty((len(keys), rows, K.N_TABLE_COLUMNS))
     for j, (_, tables, _, *_) in enumerate(sets):
         rows_of: dict[int, list[int]] = {}  # the rows that read each table
-        for r, (jj, a, b) in enumerate(keys):
+        for r, (jj, a, others) in enumerate(keys):
             if jj == j:
-                for t in {a, b} - {-1}:
+                for t in {a, *others}:
                     rows_of.setdefault(t, []).append(r)
         waiting = {t: len(rs) for t, rs in rows_of.items()}  # rows not yet written, per table
         alive: dict[int, np.ndarray] = {}
@@ -185,29 +231,34 @@ def envelope_rows(sets: list[tuple], rows: int, n_stations: int) -> tuple[np.nda
         for number, table in items:
             alive[number] = table
             for r in rows_of.get(number, []):
-                jj, a, b = keys[r]
-                if jj == j and a in alive and (b < 0 or b in alive):
-                    _write_row(out[r], alive[a], alive[b] if b >= 0 else None)
-                    for t in {a, b} - {-1}:
+                jj, a, others = keys[r]
+                if jj == j and a in alive and all(t in alive for t in others):
+                    _write_row(out[r], alive[a], [alive[t] for t in others])
+                    for t in {a, *others}:
                         waiting[t] -= 1
-                    keys[r] = (-1, a, b)  # written
+                    keys[r] = (-1, a, others)  # written
             for t in [t for t in alive if waiting.get(t, 0) <= 0]:
                 del alive[t]
     return out, station_rows
 
 
-def _write_row(out: np.ndarray, a: np.ndarray, b: np.ndarray | None) -> None:
-    """Station table ``a`` (padded with its last row) with bounds enveloping ``b``'s."""
+def _write_row(out: np.ndarray, a: np.ndarray, others: list[np.ndarray]) -> None:
+    """Station table ``a`` (padded with its last row) with bounds enveloping ``others``'."""
     m = a.shape[0]
     out[:m] = a
     out[m:] = a[-1]
-    if b is not None:
-        pair = np.empty((2, 1, *out.shape))
-        pair[0, 0] = out
-        pair[1, 0, : b.shape[0]] = b
-        pair[1, 0, b.shape[0] :] = b[-1]
-        pair_envelope_bounds(pair)
-        out[:] = pair[0, 0]
+    if not others:
+        return
+    first = K.T_SLOPE_MAX
+    groups = out[:, first:].reshape(out.shape[0], -1, 4)  # a view: (|slope|, min z'', ...)
+    padded = np.empty_like(out)
+    for b in others:
+        padded[: b.shape[0]] = b
+        padded[b.shape[0] :] = b[-1]
+        g = padded[:, first:].reshape(groups.shape)
+        np.maximum(groups[..., 0], g[..., 0], out=groups[..., 0])
+        np.minimum(groups[..., 1], g[..., 1], out=groups[..., 1])
+        np.maximum(groups[..., 2:], g[..., 2:], out=groups[..., 2:])
 
 
 def pair_envelope_bounds(tabs: np.ndarray) -> None:

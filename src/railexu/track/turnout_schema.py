@@ -33,15 +33,15 @@ TURNOUT = Schema(
         Field("switch_station_step", "the stations' distance over the switch panel's slices "
               "(default: station_step)", unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
         Field("crossing_station_step", "the stations' distance over the crossing panel's slices "
-              "(wing rail, nose, check rail; default: 10 mm, or station_step if finer: "
+              "(wing rail, nose, check rail; default: 5 mm, or station_step if finer: "
               "railexu.track.variable_rails.FILE_CROSSING_STATION_STEP_M, fine enough for the "
               "contact filter): finer stations where the rails move laterally fastest",
               unit="m", default=OPTIONAL, minimum=1e-4, maximum=1.0),
         Field("contact_filter", "the station tables averaged along the track over this length "
               "(a contact patch's, railexu's assumption; 0: not filtered; default: 12 mm, "
-              "railexu.track.variable_rails.FILE_CONTACT_FILTER_M: the crossing's peaks "
-              "converge with 10 mm stations or finer)", unit="m", default=OPTIONAL,
-              minimum=0.0, maximum=0.1),
+              "railexu.track.variable_rails.FILE_CONTACT_FILTER_M, applied at the wheelset: "
+              "the crossing's peaks converge with 5 mm stations or finer)", unit="m",
+              default=OPTIONAL, minimum=0.0, maximum=0.1),
     ),
     "A turnout as the track: its route and direction (docs/switches-and-crossings.md, "
     "'The turnout'). Generates `geometry` and `variable_rails`: give neither with it.",

@@ -28,7 +28,7 @@ from railexu.profiles.variable import VariableProfile
 SAME_STATION_M = 1.0e-6
 #: Most stations of one zone (railexu's bound): a station's effective-section table takes about
 #: 0.7 MB per side (the shipped crossing: 833 MB for 569 stations of 10 mm and two sides), so 5000
-#: stations stay within about 7 GB; the shipped turnout with 10 mm crossing stations has 1046.
+#: stations stay within about 7 GB; the shipped turnout with 5 mm crossing stations has 1615-1616.
 MAX_STATIONS = 5000
 
 #: The contact filter's length along the track [m] of a zone built from Python
@@ -38,14 +38,16 @@ DEFAULT_CONTACT_FILTER_M = 0.0
 #: turnout (``turnout:``) unless the file sets ``contact_filter``: railexu's assumption, a box
 #: with the second moment of a Hertz patch's load along the track, ``L^2 / 12 = a^2 / 5``,
 #: ``a = 7.7 mm`` (the loaded wagon's wheel, 130 kN on a 0.46 m wheel and a 0.3 m crown):
-#: with stations of 10 mm or less the crossing's peaks converge with the station step
-#: (docs/switches-and-crossings.md, the turnout's "Cost").
+#: applied at the wheelset's position and with stations of 5 mm (``L / 2``) or less the
+#: crossing's peaks converge with the station step (docs/switches-and-crossings.md, the
+#: turnout's "Cost").
 FILE_CONTACT_FILTER_M = 0.012
 #: A turnout's stations over its crossing panel [m] unless the file sets
 #: ``crossing_station_step`` (or a finer ``station_step``): fine enough for
-#: :data:`FILE_CONTACT_FILTER_M` (20 mm stations with a 12 mm filter do not converge,
-#: 10 mm are within 1.3 % of 2.5 mm; docs/switches-and-crossings.md, the turnout's "Cost").
-FILE_CROSSING_STATION_STEP_M = 0.010
+#: :data:`FILE_CONTACT_FILTER_M`, ``L / 2`` (with the filter at the wheelset: the named windows
+#: of the crossing within 1 % of their 2.5 mm values at 5 mm, 3.4 % below them at 10 mm; 20 mm
+#: stations do not converge; docs/switches-and-crossings.md, the turnout's "Cost").
+FILE_CROSSING_STATION_STEP_M = 0.005
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,7 +64,7 @@ class VariableRails:
             ``None``: the placed rail profile's own origin (slices in the track's rail axes).
         x_max_m: half-length of the effective section (contact ahead of or behind the axle) [m].
         station_steps_m: parts of the zone with their own station step, ``(from, to, step)``
-            in track distances [m] (e.g. a turnout's crossing panel at 10 mm, the rest at
+            in track distances [m] (e.g. a turnout's crossing panel at 5 mm, the rest at
             ``station_step_m``); parts must not overlap. Empty: one uniform grid.
         grids_from_end: with parts of their own step, each grid (a part's, the zone's
             default) runs from its last track distance backwards instead of from its first: the

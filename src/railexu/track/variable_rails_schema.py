@@ -58,9 +58,9 @@ VARIABLE_RAILS = {
                   maximum=0.2),
             Field("contact_filter", "the station tables averaged along the track over this "
                   "length (a contact patch's, railexu's assumption; 0: not filtered; default: "
-                  "12 mm, railexu.track.variable_rails.FILE_CONTACT_FILTER_M: with stations of "
-                  "10 mm or finer a crossing's peaks converge)", unit="m", default=OPTIONAL,
-                  minimum=0.0, maximum=0.1),
+                  "12 mm, railexu.track.variable_rails.FILE_CONTACT_FILTER_M, applied at the "
+                  "wheelset: with stations of 5 mm or finer a crossing's peaks converge)",
+                  unit="m", default=OPTIONAL, minimum=0.0, maximum=0.1),
         ),
         "A zone whose rails vary along the track: slices per side interpolated between them "
         "(docs/switches-and-crossings.md).",
