@@ -602,21 +602,6 @@ def _gap_at(s, wtab, rtab, ctx):
     return g, dg, ok
 
 
-@numba.njit(inline="always", **_JIT)
-def _gap_cos_at(s, wtab, rtab, ctx):
-    """``(g, cos(gamma), ok)`` at wheel coordinate ``s``: the vertical gap [m] and the cosine of
-    the rail's slope angle where the locus meets the rail, so that ``-g cos(gamma)`` is the
-    wheel point's depth below the rail's surface along the rail's normal (to first order in the
-    rail's curvature); outside the tables ``(1e9, 1, False)``."""
-    F, F1, F2, okw = _hermite(wtab, ctx[C_WS0], ctx[C_WSTEP], int(ctx[C_WN]), s)
-    if not okw:
-        return 1.0e9, 1.0, False
-    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
-    if not ok:
-        return 1.0e9, 1.0, False
-    return g, 1.0 / math.sqrt(1.0 + zr1 * zr1), True
-
-
 _GOLDEN = 0.6180339887498949
 
 
@@ -1004,13 +989,14 @@ def candidate_weights(n, cand_g, cand_h, weights):
         weights[k] = 1.0
     three = n == 3 and cand_g[0] < 0.0 and cand_g[1] < 0.0 and cand_g[2] < 0.0
     if three:
+        c1 = _existence(min(cand_h[0], cand_h[1]), cand_g[1])
         across = max(cand_h[0], cand_h[1])
         f0, f2 = _pair_factors(cand_g[0], cand_g[2], across)
         a0, a1 = _pair_factors(cand_g[0], cand_g[1], cand_h[0])
         b1, b2 = _pair_factors(cand_g[1], cand_g[2], cand_h[1])
-        weights[0] = a0 * f0
+        weights[0] = a0 * (1.0 - (1.0 - c1) * (1.0 - f0))
         weights[1] = a1 * b1
-        weights[2] = b2 * f2
+        weights[2] = b2 * (1.0 - (1.0 - c1) * (1.0 - f2))
         return
     for i in range(n - 1):
         ga = cand_g[i]
@@ -1053,7 +1039,7 @@ PATCH_CURVATURE_RATIO = 1.5
 
 
 @numba.njit(inline="always", **_JIT)
-def patch_curvature(b_min, approach, area, step):
+def patch_curvature(b_min, depth, cos_gamma, variance, step):
     """Half the relative lateral curvature ``B`` [1/m] used for Hertz's stiffness of a patch.
 
     ``b_min``: the one at the gap's minimum (the profiles' curvature averaged over the contact
@@ -1075,17 +1061,13 @@ def patch_curvature(b_min, approach, area, step):
     a Hertzian patch, continuous in the pose (the clamp of two continuous functions), and a
     stiffness that follows the patch's real width where Hertz has no answer.
     """
-    # the width is resolved by the lattice of ``step`` [m] (patch_centre) only where the
-    # overlap's equivalent half-width ``3 area / (4 approach)`` spans six steps or more (a
-    # Hertzian patch: 6.7 steps); below three steps the minimum's curvature is kept, between the
-    # two the bound fades in
-    if not (approach > 0.0) or not (area > 0.0):
-        return b_min
-    half_width = 0.75 * area / approach
-    trust = _smoothstep(half_width / (3.0 * step) - 1.0)
+    # the width is resolved by the lattice of ``step`` [m] (patch_centre) only where the load's
+    # standard deviation spans two steps or more (a Hertzian patch: 2.2 steps); below one step
+    # the minimum's curvature is kept, between the two the bound fades in
+    trust = _smoothstep(math.sqrt(max(variance, 0.0)) / step - 1.0)
     if not (trust > 0.0):
         return b_min
-    b_width = approach / (half_width * half_width)
+    b_width = PATCH_EPSILON * depth * cos_gamma * cos_gamma * cos_gamma / (5.0 * variance)
     lo = b_width / PATCH_CURVATURE_RATIO
     hi = b_width * PATCH_CURVATURE_RATIO
     bounded = min(max(b_min, lo), hi)
@@ -1103,30 +1085,20 @@ def _neighbour_share(hump, g_nb, threshold):
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, base):
-    """The moments ``int w, int w s, int w s^2`` of ``w = ratio g_k - g(s) > 0`` over the patch
-    of minimum ``k`` on the lattice ``s = i step`` (:func:`patch_centre`), and the largest depth
-    along the normal ``-g cos(gamma)`` over the lattice points where ``w > 0`` [m], at least
-    ``base``. ``ratio = 1 - PATCH_EPSILON``: the line load (virtual penetration); ``ratio = 0``:
-    the overlap of the minimum's valley, whose zeroth moment is its area [m^2]. A neighbour's
-    side beyond a hump below ``ratio g_k`` counts with ``1 - share`` (:func:`_neighbour_share`):
-    in the moments as a factor, in the depth as a blend from ``base`` (continuous as the
-    neighbour merges)."""
+def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
+    """The moments ``int w, int w s, int w s^2`` of the line load of the patch of minimum ``k``
+    on the lattice ``s = i step`` (:func:`patch_centre`)."""
     s_k = cand_s[k]
     g_k = cand_g[k]
     if not (g_k < 0.0):
-        return 0.0, 0.0, 0.0, base
-    threshold = ratio * g_k
+        return 0.0, 0.0, 0.0
+    threshold = (1.0 - PATCH_EPSILON) * g_k
     m0 = 0.0
     m1 = 0.0
     m2 = 0.0
     i0 = math.floor(s_k / step + 0.5)  # the lattice point nearest the minimum
     s_start = i0 * step
-    g_start, c_start, _ok = _gap_cos_at(s_start, wtab, rtab, ctx)
-    f_start = threshold - g_start
-    depth = base
-    if f_start > 0.0:
-        depth = max(depth, -g_start * c_start)
+    f_start = threshold - _gap_at(s_start, wtab, rtab, ctx)[0]
     for direction in (-1, 1):
         factor = 1.0  # weight of the part of the valley being summed
         j = k  # the last minimum passed
@@ -1146,7 +1118,7 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
         f_prev = f_start
         for i in range(1, PATCH_MAX_STEPS + 1):
             s = (i0 + direction * i) * step
-            g, cos_gamma, on_table = _gap_cos_at(s, wtab, rtab, ctx)
+            g, _dg, on_table = _gap_at(s, wtab, rtab, ctx)
             if not on_table:
                 # the locus leaves the wheel's or the rail's table inside the patch: the load ends
                 # at the table's edge (found by bisection), not at the lattice node beyond it,
@@ -1167,8 +1139,6 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
                 break
             w = threshold - g
             f = factor * w
-            if f > 0.0 and -g * cos_gamma > base:
-                depth = max(depth, base + factor * (-g * cos_gamma - base))
             stop = False
             if not crossing or (share >= 1.0 and direction * (s - hump_s) < 0.0):
                 stop = w <= 0.0
@@ -1207,11 +1177,11 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
                 break
             s_prev = s
             f_prev = f
-    return m0, m1, m2, depth
+    return m0, m1, m2
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, base=0.0):
+def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
     """Centroid ``s`` [m] of the line load of the patch of minimum ``k`` on the wheel's
     coordinate, and the load's variance about it [m^2] (``step``: the grid [m]).
 
@@ -1250,24 +1220,16 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, base=0.0):
     low = math.floor(level)
     t = level - low
     h = PATCH_STEP_MIN * 2.0**low
-    load = 1.0 - PATCH_EPSILON
-    m0, m1, m2, _d = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h, load, base)
-    area, _a1, _a2, depth = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h, 0.0,
-                                           base)  # fmt: skip
+    m0, m1, m2 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h)
     if t > 0.0:
-        b0, b1, b2, _d = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, 2.0 * h,
-                                        load, base)  # fmt: skip
+        b0, b1, b2 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, 2.0 * h)
         m0 = (1.0 - t) * m0 + t * b0
         m1 = (1.0 - t) * m1 + t * b1
         m2 = (1.0 - t) * m2 + t * b2
-        b0, _a1, _a2, b3 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, 2.0 * h,
-                                          0.0, base)  # fmt: skip
-        area = (1.0 - t) * area + t * b0
-        depth = (1.0 - t) * depth + t * b3
     if not (m0 > 0.0):
-        return s_k, 0.0, area, depth
+        return s_k, 0.0
     centre = m1 / m0
-    return centre, max(m2 / m0 - centre * centre, 0.0), area, depth
+    return centre, max(m2 / m0 - centre * centre, 0.0)
 
 
 @numba.njit(inline="always", **_JIT)
@@ -1390,20 +1352,20 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         if delta > 0.0:
             half_width = math.sqrt(PATCH_EPSILON * delta / max(b_lat, 1.0)) * inv
             step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, PATCH_STEP_SHARE * half_width))
-            s, variance, area, approach = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab,
-                                                       rtab, ctx, step, delta)  # fmt: skip
+            s, variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
             if s != s_min:
                 F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
                 g_c, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
                 r = r0 + F
                 inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
-            # the approach: the largest depth along the normal over the minimum's valley
-            # (patch_centre), the minimum's own -g cos(gamma) for a Hertzian patch (to second
-            # order); it grows wherever the wheel moves into the rail (issue 30)
-            delta = approach
-            # Hertz's lateral curvature: the minimum's while the valley's overlap area agrees
-            # with it, else bounded by the curvature that area implies (patch_curvature)
-            b_lat = patch_curvature(b_lat, approach, area, step)
+                # the approach along the patch's normal: two minima that share one patch have
+                # one normal and (nearly) one depth, so the load moving from one to the other
+                # does not change the force (along its own normal the steep flange minimum had
+                # 0.4 times the root's approach at the same vertical depth)
+                delta = -g * inv
+            # Hertz's lateral curvature: the minimum's while the patch's load width agrees with
+            # it, else bounded by the curvature that width implies (patch_curvature)
+            b_lat = patch_curvature(b_lat, -g, inv, variance, step)
         u = -F1 * tpsi
         w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
