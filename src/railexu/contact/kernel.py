@@ -26,16 +26,11 @@ b) *Contact points.* Along the locus the vertical gap to the rail ``g(s)`` and i
    both touch (the seed's Fig. 8); minima sharing one overlap region are weighted
    (:func:`candidate_weights`). The normal penetration is ``delta = -g cos(gamma)``.
 c) *Normal force.* Each minimum is a patch (:func:`patch_centre`, issue 28): the force acts at
-   the centroid of its load (virtual penetration, Kik and Piotrowski 2008); the approach is the
-   largest depth along the normal ``-g cos(gamma)`` over its valley's overlap, and Hertz's
-   lateral curvature the minimum's, bounded by the one implied by the area of the
-   interference along the normal above ``(1 - eps)`` times the approach (:func:`patch_centre`,
-   :func:`patch_curvature`; :mod:`railexu.contact.hertz`): both grow as the wheel moves into
-   the rail, so a worn, nearly conformal flange root's load does not fall (issue 30: it fell by
-   up to 4.6 kN per um when measured by the vertical gap, and a wear loop's R 300 m case
-   diverged); exactly Hertz for a Hertzian patch. Two minima in one nearly flat valley (S1002
-   flange root on a 60E1 gauge corner) have one patch, and the minima of one valley share it
-   by their weights (:func:`candidate_weights`; three by the product of their pair factors).
+   the centroid of its load (virtual penetration, Kik and Piotrowski 2008), with the approach
+   along the normal there and Hertz's lateral curvature the minimum's, bounded by the one the
+   patch's load width implies (:func:`patch_curvature`; :mod:`railexu.contact.hertz`); so two
+   minima in one nearly flat valley (S1002 flange root on a 60E1 gauge corner) have one patch,
+   and the minima of one valley share it by their weights (:func:`candidate_weights`).
    The damped force of the seed's eq. (2)
    ``N = K delta^1.5 + D delta_dot`` (or Hunt-Crossley ``K delta^1.5 (1 + chi delta_dot)``), never
    negative.
@@ -607,21 +602,6 @@ def _gap_at(s, wtab, rtab, ctx):
     return g, dg, ok
 
 
-@numba.njit(inline="always", **_JIT)
-def _gap_cos_at(s, wtab, rtab, ctx):
-    """``(g, cos(gamma), ok)`` at wheel coordinate ``s``: the vertical gap [m] and the cosine of
-    the rail's slope angle where the locus meets the rail, so that ``-g cos(gamma)`` is the
-    wheel point's depth below the rail's surface along the rail's normal (to first order in the
-    rail's curvature); outside the tables ``(1e9, 1, False)``."""
-    F, F1, F2, okw = _hermite(wtab, ctx[C_WS0], ctx[C_WSTEP], int(ctx[C_WN]), s)
-    if not okw:
-        return 1.0e9, 1.0, False
-    g, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
-    if not ok:
-        return 1.0e9, 1.0, False
-    return g, 1.0 / math.sqrt(1.0 + zr1 * zr1), True
-
-
 _GOLDEN = 0.6180339887498949
 
 
@@ -995,14 +975,13 @@ def candidate_weights(n, cand_g, cand_h, weights):
     are one connected overlap, in which the shallower minimum would count the overlap twice:
     :func:`_pair_factors` (the deeper keeps 1, the shallower its retention, which falls to 0
     as it merges or dies, and rises to 1 while the hump stands above its patch's threshold).
-    Three penetrating minima (``MAX_POINTS``): each has the product of its factors against the
-    other two (the outer pair across the higher hump). So a minimum born between two others
-    (the worn flange root of issue 30) neither takes load from them at birth nor separates them
-    (before issue 28's rework each outer one jumped from sharing with the other to full weight:
-    +163 kN over 1 um), and a hump that rises above zero gives the factor 1 (the pairs' formula
-    is the limit). Before issue 30 the outer one's factor against the other outer one faded with
-    the middle one's existence: an outer minimum then left its senior as a middle one was born
-    (3.1 kN over 1 um on a worn flange root). The weights are continuous
+    Three penetrating minima (``MAX_POINTS``): each outer one has its factor against the middle
+    one and, as far as the middle one does not exist (:func:`_existence`, against the lower of
+    its humps), its factor against the other outer one across the higher hump; the middle one
+    has the product of its two. So a minimum born between two others (the worn flange root of
+    issue 30) neither takes load from them at birth nor separates them (before, each outer one
+    jumped from sharing with the other to full weight: +163 kN over 1 um), and a hump that rises
+    above zero gives the factor 1 (the pairs' formula is the limit). The weights are continuous
     functions of the gaps and the humps: the normal force does not jump when minima appear,
     merge, separate or change order inside one overlap region (tests/test_contact_valley.py).
     """
@@ -1010,13 +989,14 @@ def candidate_weights(n, cand_g, cand_h, weights):
         weights[k] = 1.0
     three = n == 3 and cand_g[0] < 0.0 and cand_g[1] < 0.0 and cand_g[2] < 0.0
     if three:
+        c1 = _existence(min(cand_h[0], cand_h[1]), cand_g[1])
         across = max(cand_h[0], cand_h[1])
         f0, f2 = _pair_factors(cand_g[0], cand_g[2], across)
         a0, a1 = _pair_factors(cand_g[0], cand_g[1], cand_h[0])
         b1, b2 = _pair_factors(cand_g[1], cand_g[2], cand_h[1])
-        weights[0] = a0 * f0
+        weights[0] = a0 * (1.0 - (1.0 - c1) * (1.0 - f0))
         weights[1] = a1 * b1
-        weights[2] = b2 * f2
+        weights[2] = b2 * (1.0 - (1.0 - c1) * (1.0 - f2))
         return
     for i in range(n - 1):
         ga = cand_g[i]
@@ -1059,26 +1039,19 @@ PATCH_CURVATURE_RATIO = 1.5
 
 
 @numba.njit(inline="always", **_JIT)
-def patch_curvature(b_min, approach, area, step):
+def patch_curvature(b_min, depth, cos_gamma, variance, step):
     """Half the relative lateral curvature ``B`` [1/m] used for Hertz's stiffness of a patch.
 
     ``b_min``: the one at the gap's minimum (the profiles' curvature averaged over the contact
-    width); ``approach``: the patch's approach ``d`` along the normal [m]; ``area``: the area
-    [m^2] of a parabolic overlap with the patch's load (:func:`patch_centre`: the integral of
-    the interference along the normal above ``(1 - PATCH_EPSILON) d``, over ``eps^1.5``) and
-    ``step`` [m] the lattice it was integrated on.
+    width); ``depth``: the minimum's vertical overlap ``-g`` [m]; ``cos_gamma``: the cosine of
+    the contact angle at the patch's load centroid; ``variance``: the load's variance on the
+    wheel's lateral coordinate [m^2] and ``step`` [m] the lattice it was integrated on
+    (:func:`patch_centre`).
 
-    A parabolic gap ``-d + B t^2`` (Hertz) overlaps over ``|t| < a = sqrt(d / B)`` with the area
-    ``(4/3) d a``, so the patch implies ``B_w = d / a^2`` with ``a = 3 area / (4 d)``. Measured
-    along the normal, not the vertical gap (issue 30): the interference of every point grows
-    as the wheel moves into the rail, so this width does not shrink because one part of a
-    conformal valley (a steep flank) deepens faster in the vertical than another (the load's
-    variance in the vertical threshold of 05bea86 fell, and Hertz's curvature bound rose from
-    1.9 to 3.6 1/m, as a worn flange root's patch turned towards the flank). The region above
-    ``(1 - PATCH_EPSILON) d`` (Kik and Piotrowski's virtual penetration) and not the whole
-    overlap: the overlap of a crowned crossing nose reaches 2.5 times its Hertz semi-axis
-    (``tests/test_sc_kernel.py``: measured on the whole overlap the bound gave 3.2 % against
-    CONTACT, measured on the load 0.8 %). Hertz's curvature at the minimum
+    For a parabolic gap (Hertz) with the Kik-Piotrowski line load the variance is
+    ``eps depth cos^3(gamma) / (5 B)`` (the gap ``-depth + B s^2 / cos^3(gamma)`` in the
+    vertical, over the horizontal ``s``), so the load's width implies
+    ``B_w = eps depth cos^3(gamma) / (5 variance)``. Hertz's curvature at the minimum
     describes the patch only while the gap is near that parabola; where several minima share
     one valley, or a minimum sits at the end of a conformal one, it does not: a minimum born at
     an inflection has ``B = 0`` (Hertz's ellipse infinitely long, its stiffness unbounded), and
@@ -1088,17 +1061,13 @@ def patch_curvature(b_min, approach, area, step):
     a Hertzian patch, continuous in the pose (the clamp of two continuous functions), and a
     stiffness that follows the patch's real width where Hertz has no answer.
     """
-    # the width is resolved by the lattice of ``step`` [m] (patch_centre) only where the
-    # equivalent overlap's half-width ``3 area / (4 approach)`` spans six steps or more (a
-    # Hertzian patch: 6.7 steps); below three steps the minimum's curvature is kept, between the
-    # two the bound fades in
-    if not (approach > 0.0) or not (area > 0.0):
-        return b_min
-    half_width = 0.75 * area / approach
-    trust = _smoothstep(half_width / (3.0 * step) - 1.0)
+    # the width is resolved by the lattice of ``step`` [m] (patch_centre) only where the load's
+    # standard deviation spans two steps or more (a Hertzian patch: 2.2 steps); below one step
+    # the minimum's curvature is kept, between the two the bound fades in
+    trust = _smoothstep(math.sqrt(max(variance, 0.0)) / step - 1.0)
     if not (trust > 0.0):
         return b_min
-    b_width = approach / (half_width * half_width)
+    b_width = PATCH_EPSILON * depth * cos_gamma * cos_gamma * cos_gamma / (5.0 * variance)
     lo = b_width / PATCH_CURVATURE_RATIO
     hi = b_width * PATCH_CURVATURE_RATIO
     bounded = min(max(b_min, lo), hi)
@@ -1116,33 +1085,20 @@ def _neighbour_share(hump, g_nb, threshold):
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, base, thr_n):
-    """The moments ``int w, int w s, int w s^2`` of ``w = ratio g_k - g(s) > 0`` over the patch
-    of minimum ``k`` on the lattice ``s = i step`` (:func:`patch_centre`); the largest depth
-    along the normal ``-g cos(gamma)`` over the lattice points where ``w > 0`` [m], at least
-    ``base``; and ``int (-g cos(gamma) - thr_n)^+`` [m^2] over the same points (the
-    interference along the normal above ``thr_n`` [m]). ``ratio = 1 - PATCH_EPSILON``: the
-    line load (virtual penetration); ``ratio = 0``: the overlap of the minimum's valley. A
-    neighbour's side beyond a hump below ``ratio g_k`` counts with ``1 - share``
-    (:func:`_neighbour_share`): in the integrals as a factor, in the depth as a blend from
-    ``base`` (continuous as the neighbour merges)."""
+def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
+    """The moments ``int w, int w s, int w s^2`` of the line load of the patch of minimum ``k``
+    on the lattice ``s = i step`` (:func:`patch_centre`)."""
     s_k = cand_s[k]
     g_k = cand_g[k]
     if not (g_k < 0.0):
-        return 0.0, 0.0, 0.0, base, 0.0
-    threshold = ratio * g_k
-    mn = 0.0
+        return 0.0, 0.0, 0.0
+    threshold = (1.0 - PATCH_EPSILON) * g_k
     m0 = 0.0
     m1 = 0.0
     m2 = 0.0
     i0 = math.floor(s_k / step + 0.5)  # the lattice point nearest the minimum
     s_start = i0 * step
-    g_start, c_start, _ok = _gap_cos_at(s_start, wtab, rtab, ctx)
-    f_start = threshold - g_start
-    depth = base
-    if f_start > 0.0:
-        depth = max(depth, -g_start * c_start)
-    fn_start = -g_start * c_start - thr_n
+    f_start = threshold - _gap_at(s_start, wtab, rtab, ctx)[0]
     for direction in (-1, 1):
         factor = 1.0  # weight of the part of the valley being summed
         j = k  # the last minimum passed
@@ -1160,10 +1116,9 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
                 crossing = True
         s_prev = s_start
         f_prev = f_start
-        fn_prev = fn_start
         for i in range(1, PATCH_MAX_STEPS + 1):
             s = (i0 + direction * i) * step
-            g, cos_gamma, on_table = _gap_cos_at(s, wtab, rtab, ctx)
+            g, _dg, on_table = _gap_at(s, wtab, rtab, ctx)
             if not on_table:
                 # the locus leaves the wheel's or the rail's table inside the patch: the load ends
                 # at the table's edge (found by bisection), not at the lattice node beyond it,
@@ -1184,11 +1139,6 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
                 break
             w = threshold - g
             f = factor * w
-            fn = factor * (-g * cos_gamma - thr_n)
-            if fn > 0.0 or fn_prev > 0.0:
-                mn += _cell_moments(s_prev, fn_prev, s, fn)[0]
-            if f > 0.0 and -g * cos_gamma > base:
-                depth = max(depth, base + factor * (-g * cos_gamma - base))
             stop = False
             if not crossing or (share >= 1.0 and direction * (s - hump_s) < 0.0):
                 stop = w <= 0.0
@@ -1227,26 +1177,13 @@ def _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, ratio, b
                 break
             s_prev = s
             f_prev = f
-            fn_prev = fn
-    return m0, m1, m2, depth, mn
+    return m0, m1, m2
 
 
 @numba.njit(**JIT_NO_REFCOUNT)
-def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, base=0.0):
+def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step):
     """Centroid ``s`` [m] of the line load of the patch of minimum ``k`` on the wheel's
-    coordinate, the load's variance about it [m^2], the area of the parabolic overlap its load
-    implies [m^2] and its approach [m] (``step``: the grid [m]; ``base``: the minimum's own
-    approach ``-g_k cos(gamma_k)`` [m]).
-
-    The approach (issue 30) is the largest depth along the normal ``-g cos(gamma)`` over the
-    overlap (``g < 0``) of the minimum's valley, a neighbour's part beyond a hump below zero
-    counted as far as it has merged, and at least ``base``: for a Hertzian patch the minimum's
-    own approach (to the normal's turning over the patch, below 1e-5 relative), and it grows
-    wherever the wheel moves into the rail (before, ``-g_min cos(gamma)`` at the load's
-    centroid fell from 215 to 197 um as a worn flange root's centroid turned towards the flank).
-    The area is ``int (-g cos(gamma) - (1 - PATCH_EPSILON) d)^+ ds / PATCH_EPSILON^1.5`` over
-    that overlap (``d`` the approach): for a parabolic gap the overlap's area
-    ``(4/3) d^1.5 / sqrt(B)`` (:func:`patch_curvature`).
+    coordinate, and the load's variance about it [m^2] (``step``: the grid [m]).
 
     A Hertz point carries the whole force of its patch at the deepest point of the gap. Where
     the gap is nearly flat over millimetres (the S1002 flange root on a 60E1 gauge corner with
@@ -1283,33 +1220,16 @@ def patch_centre(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, step, base=0.0):
     low = math.floor(level)
     t = level - low
     h = PATCH_STEP_MIN * 2.0**low
-    load = 1.0 - PATCH_EPSILON
-    big = 1.0e9
-    m0, m1, m2, _d, _n = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h, load,
-                                        base, big)  # fmt: skip
-    _a, _a1, _a2, depth, _n = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h, 0.0,
-                                             base, big)  # fmt: skip
+    m0, m1, m2 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h)
     if t > 0.0:
-        b0, b1, b2, _d, _n = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx,
-                                            2.0 * h, load, base, big)  # fmt: skip
+        b0, b1, b2 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, 2.0 * h)
         m0 = (1.0 - t) * m0 + t * b0
         m1 = (1.0 - t) * m1 + t * b1
         m2 = (1.0 - t) * m2 + t * b2
-        _a, _a1, _a2, b3, _n = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx,
-                                              2.0 * h, 0.0, base, big)  # fmt: skip
-        depth = (1.0 - t) * depth + t * b3
-    thr_n = (1.0 - PATCH_EPSILON) * depth
-    _a, _a1, _a2, _d, area = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx, h, 0.0,
-                                            base, thr_n)  # fmt: skip
-    if t > 0.0:
-        _a, _a1, _a2, _d, b4 = _patch_moments(k, n, cand_s, cand_g, cand_h, wtab, rtab, ctx,
-                                              2.0 * h, 0.0, base, thr_n)  # fmt: skip
-        area = (1.0 - t) * area + t * b4
-    area /= PATCH_EPSILON**1.5
     if not (m0 > 0.0):
-        return s_k, 0.0, area, depth
+        return s_k, 0.0
     centre = m1 / m0
-    return centre, max(m2 / m0 - centre * centre, 0.0), area, depth
+    return centre, max(m2 / m0 - centre * centre, 0.0)
 
 
 @numba.njit(inline="always", **_JIT)
@@ -1432,20 +1352,20 @@ def wheel_contact(wtab, winfo, rtab, rinfo, htab, ktab, params, mirror, cx, cy, 
         if delta > 0.0:
             half_width = math.sqrt(PATCH_EPSILON * delta / max(b_lat, 1.0)) * inv
             step = min(PATCH_STEP_MAX, max(PATCH_STEP_MIN, PATCH_STEP_SHARE * half_width))
-            s, variance, area, approach = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab,
-                                                       rtab, ctx, step, delta)  # fmt: skip
+            s, variance = patch_centre(k, n_cand, cand_s, cand_g, cand_h, wtab, rtab, ctx, step)
             if s != s_min:
                 F, F1, F2, okw = _hermite(wtab, ws0, wstep, wn, s)
                 g_c, dg, Py, Pz, zr, zr1, zr2, ok = _locus_gap(s, F, F1, F2, rtab, ctx)
                 r = r0 + F
                 inv = 1.0 / math.sqrt(1.0 + zr1 * zr1)
-            # the approach: the largest depth along the normal over the minimum's valley
-            # (patch_centre), the minimum's own -g cos(gamma) for a Hertzian patch (to second
-            # order); it grows wherever the wheel moves into the rail (issue 30)
-            delta = approach
-            # Hertz's lateral curvature: the minimum's while the valley's overlap area agrees
-            # with it, else bounded by the curvature that area implies (patch_curvature)
-            b_lat = patch_curvature(b_lat, approach, area, step)
+                # the approach along the patch's normal: two minima that share one patch have
+                # one normal and (nearly) one depth, so the load moving from one to the other
+                # does not change the force (along its own normal the steep flange minimum had
+                # 0.4 times the root's approach at the same vertical depth)
+                delta = -g * inv
+            # Hertz's lateral curvature: the minimum's while the patch's load width agrees with
+            # it, else bounded by the curvature that width implies (patch_curvature)
+            b_lat = patch_curvature(b_lat, -g, inv, variance, step)
         u = -F1 * tpsi
         w = math.sqrt(max(1.0 - u * u, 1.0e-12))
         px = r * u
