@@ -23,6 +23,7 @@ from pathlib import Path
 COMPILED_SOURCES = (
     "contact/creep.py",
     "contact/fastsim.py",
+    "contact/halfspace_tangential.py",
     "contact/hertz.py",
     "contact/kalker.py",
     "contact/kernel.py",
