@@ -161,30 +161,16 @@ class VariableProfile:
 
 
 def pchip_heights(y_pts: np.ndarray, z_pts: np.ndarray, y_m: np.ndarray) -> np.ndarray:
-    """The monotone cubic (PCHIP, Fritsch & Carlson, SIAM J. Numer. Anal. 17, 1980; the
-    weighted harmonic-mean slopes of Fritsch & Butland) through the points ``(y, z)`` [m],
-    ``y`` increasing, evaluated at ``y_m`` inside them: continuous slope, so a curve given by
-    points ``0.2 mm`` apart has no kinks between them (a kink is a wedge: it puts a logarithmic
-    peak into the half-space pressure on grids finer than the points)."""
-    hy = np.diff(y_pts)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d = np.where(hy > 0.0, np.diff(z_pts) / hy, 0.0)
-        w1 = 2.0 * hy[1:] + hy[:-1]
-        w2 = hy[1:] + 2.0 * hy[:-1]
-        inner = (w1 + w2) / (w1 / d[:-1] + w2 / d[1:])
-    m = np.empty_like(z_pts)
-    m[1:-1] = np.where(d[:-1] * d[1:] > 0.0, inner, 0.0)
-    m[0], m[-1] = d[0], d[-1]
-    i = np.clip(np.searchsorted(y_pts, y_m, side="right") - 1, 0, y_pts.size - 2)
-    h = hy[i]
-    t = np.where(h > 0.0, (y_m - y_pts[i]) / np.where(h > 0.0, h, 1.0), 0.0)
-    t2, t3 = t * t, t * t * t
-    return (
-        (2 * t3 - 3 * t2 + 1) * z_pts[i]
-        + (t3 - 2 * t2 + t) * h * m[i]
-        + (-2 * t3 + 3 * t2) * z_pts[i + 1]
-        + (t3 - t2) * h * m[i + 1]
-    )
+    """The monotone cubic (PCHIP, Fritsch & Carlson, SIAM J. Numer. Anal. 17, 1980:
+    :class:`scipy.interpolate.PchipInterpolator`) through the points ``(y, z)`` [m], ``y``
+    non-decreasing (repeated ``y`` count once), evaluated at ``y_m`` inside them: continuous
+    slope, so a curve given by points ``0.2 mm`` apart has no kinks between them (a kink is a
+    wedge: it puts a logarithmic peak into the half-space pressure on grids finer than the
+    points)."""
+    keep = np.concatenate(([True], np.diff(y_pts) > 0.0))
+    if np.count_nonzero(keep) < 2:
+        return np.interp(y_m, y_pts, z_pts)
+    return PchipInterpolator(y_pts[keep], z_pts[keep])(y_m)
 
 
 def top_surface_heights(
