@@ -35,11 +35,10 @@ References outside the code under test:
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numba
 import numpy as np
 import pytest
+from sc_store_view import store_view
 
 from railexu.contact import kernel as K
 from railexu.errors import InputError
@@ -352,21 +351,6 @@ def test_filter_windows_of_a_uniform_grid():
     assert filter_windows(0.005 * np.arange(8), 0.012)[3].tolist() == [1, 6]
 
 
-class _Zone(NamedTuple):
-    """What :func:`railexu.model.forces._filter_station` reads."""
-
-    sc_stations: np.ndarray
-    sc_index: np.ndarray
-    sc_side: np.ndarray
-    sc_tab: np.ndarray
-    sc_base: np.ndarray
-    sc_cache: np.ndarray
-    sc_key: np.ndarray
-    sc_t: np.ndarray
-    sc_filter: float
-    sc_window: np.ndarray
-
-
 #: Compiled here without numba's cache (as tests/test_sc_stations.py: a cached overload for this
 #: module's type could not be loaded by other processes).
 _filter_station = numba.njit(**{k: v for k, v in K.JIT_NO_REFCOUNT.items() if k != "cache"})(
@@ -385,7 +369,7 @@ def test_kernel_filter_is_the_weighted_store_with_enveloping_bounds():
     so the kernel's search is exact with them."""
     fields, station = _ramp_zone_fields(0.004, 0.012, own=True)
     assert fields["sc_filter"] == 0.012
-    d = _Zone(**{k: fields[k] for k in _Zone._fields})
+    d = store_view(fields)
     x = d.sc_stations
     first = K.T_SLOPE_MAX
     store = fields["sc_tab"][fields["sc_index"][:, 0]]  # the row each station reads

@@ -22,11 +22,11 @@ References outside the code under test:
 from __future__ import annotations
 
 from pathlib import Path
-from typing import NamedTuple
 
 import numba
 import numpy as np
 import pytest
+from sc_store_view import StoreView, store_view
 from scipy.optimize import brentq
 
 from railexu.contact import kernel as K
@@ -43,23 +43,6 @@ ROOT = Path(__file__).resolve().parents[1]
 TURNOUT = "turnout_uk_r245_diverging_facing"
 
 
-class _Stations(NamedTuple):
-    """What :func:`forces._station_interval` and :func:`forces._blend_station` read (and the
-    tables' grid, ``sc_info``)."""
-
-    sc_start: float
-    sc_step: float
-    sc_stations: np.ndarray
-    sc_index: np.ndarray
-    sc_side: np.ndarray
-    sc_tab: np.ndarray
-    sc_base: np.ndarray
-    sc_cache: np.ndarray
-    sc_key: np.ndarray
-    sc_t: np.ndarray
-    sc_info: np.ndarray
-
-
 #: The force function's station search and blend compiled here with its flags but without
 #: numba's cache: a cached overload for this module's type would be pickled into the package's
 #: cache index, which other processes (without this test module) could not load.
@@ -68,8 +51,8 @@ _station_interval = numba.njit(**_FLAGS)(forces._station_interval.py_func)
 _blend_station = numba.njit(**_FLAGS)(forces._blend_station.py_func)
 
 
-def _data(fields: dict) -> _Stations:
-    return _Stations(**{k: fields[k] for k in _Stations._fields})
+def _data(fields: dict) -> StoreView:
+    return store_view(fields)
 
 
 def _old_interval(s: float, start: float, step: float, n: int) -> tuple[int, float]:
@@ -81,7 +64,7 @@ def _old_interval(s: float, start: float, step: float, n: int) -> tuple[int, flo
     return -1, 0.0
 
 
-def _blended(d: _Stations, i: int, t: float, side: int) -> np.ndarray:
+def _blended(d: StoreView, i: int, t: float, side: int) -> np.ndarray:
     _blend_station(d, 0, i, t, side)
     return d.sc_cache[0, d.sc_side[side]].copy()
 
