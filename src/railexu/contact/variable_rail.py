@@ -161,13 +161,18 @@ def _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, x, y, smooth=False):
     """Overlap ``h(x, y)`` [m] (positive = wheel below the rail surface), ``-inf`` off rail;
     ``smooth``: the rail's curves as monotone cubics between their points (the fine grid's
     pressure), else straight between them (the coarse search)."""
+    return _overlap_and_rail(rail, wheel, s_m, y_ws_m, z_ws_m, x, y, smooth)[0]
+
+
+def _overlap_and_rail(rail, wheel, s_m, y_ws_m, z_ws_m, x, y, smooth):
+    """:func:`_overlap` and the rail's heights ``z(x, y)`` [m] on the grid it used."""
     zw = wheel.height(y - y_ws_m - wheel.y_offset_m)
     r = wheel.nominal_radius_m + zw
     drop = r[None, :] - np.sqrt(np.maximum(r[None, :] ** 2 - x[:, None] ** 2, 0.0))
     z_wheel = z_ws_m + zw[None, :] - drop
     z_rail = rail.heights_on_grid(s_m + x, y, smooth=smooth)
     h = z_wheel - z_rail
-    return np.where(np.isfinite(h), h, -np.inf)
+    return np.where(np.isfinite(h), h, -np.inf), z_rail
 
 
 def patches_at(
@@ -215,11 +220,11 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion=None) -> Patc
     x0, x1, y0, y1 = box
     x = np.arange(x0, x1 + 0.5 * st.dx_m, st.dx_m)
     y = np.arange(y0, y1 + 0.5 * st.dy_m, st.dy_m)
-    h = _overlap(rail, wheel, s_m, y_ws_m, z_ws_m, x, y, smooth=True)
+    h, z_rail = _overlap_and_rail(rail, wheel, s_m, y_ws_m, z_ws_m, x, y, smooth=True)
     if not np.any(h > 0.0):
         return None
     i, j = np.unravel_index(int(np.argmax(h)), h.shape)
-    zr = rail.heights_on_grid(np.array([s_m + x[i]]), y, smooth=True)[0]
+    zr = z_rail[i]
     jm, jp = max(j - 1, 0), min(j + 1, y.size - 1)
     slope = (zr[jp] - zr[jm]) / (y[jp] - y[jm]) if jp > jm else 0.0
     if not math.isfinite(slope):
@@ -249,7 +254,7 @@ def _solve_patch(rail, wheel, s_m, y_ws_m, z_ws_m, box, st, motion=None) -> Patc
                 "beside the wheel's profile"
             )
         with np.errstate(invalid="ignore"):  # NaN beside the rail: left out of the mean
-            slope = np.gradient(rail.heights_on_grid(s_m + x, y, smooth=True), y, axis=1)
+            slope = np.gradient(z_rail, y, axis=1)
         creep = patch_creepages(xm, r_w, mean_slope_angle(p, slope), motion)
         fx, fs = tangential_forces(
             p, x - xm, (y - ym) / cos_d, creep, motion, st.shear_modulus_pa, st.poisson
